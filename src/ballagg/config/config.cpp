@@ -1,0 +1,330 @@
+#include "ballagg/config/config.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+namespace ballagg {
+namespace {
+
+// Reads one section of the TOML document, remembering which keys it was asked for so
+// that anything else is reported as unknown. Every error names where the value came from.
+class SectionReader {
+ public:
+  SectionReader(const toml::table& root, std::string section, const std::string& source,
+                const std::set<std::string>& overridden)
+      : section_(std::move(section)), source_(source), overridden_(overridden) {
+    if (const toml::node* node = root.get(section_)) {
+      table_ = node->as_table();
+      if (table_ == nullptr) fail(*node, section_, "must be a table ([" + section_ + "])");
+    }
+  }
+
+  std::optional<std::int64_t> integer(const std::string& key, std::int64_t lo, std::int64_t hi,
+                                      const std::string& allowed) {
+    const toml::node* node = find(key);
+    if (node == nullptr) return std::nullopt;
+    std::optional<std::int64_t> v;
+    if (auto i = node->value_exact<std::int64_t>()) v = *i;
+    else if (auto d = node->value_exact<double>(); d && std::isfinite(*d) && *d == std::floor(*d) && std::abs(*d) < 9e18)
+      v = static_cast<std::int64_t>(*d);  // 1e4 from the command line is an integer
+    if (!v || *v < lo || *v > hi) fail(*node, key, allowed);
+    return v;
+  }
+
+  // A finite number (or +inf when allow_infinite) accepted by `ok`.
+  std::optional<double> real(const std::string& key, const std::function<bool(double)>& ok,
+                             const std::string& allowed, bool allow_infinite = false) {
+    const toml::node* node = find(key);
+    if (node == nullptr) return std::nullopt;
+    std::optional<double> v;
+    if (auto d = node->value_exact<double>()) v = *d;
+    else if (auto i = node->value_exact<std::int64_t>()) v = static_cast<double>(*i);
+    if (!v || std::isnan(*v) || (std::isinf(*v) && !(allow_infinite && *v > 0)) || !ok(*v))
+      fail(*node, key, allowed);
+    return v;
+  }
+
+  std::optional<bool> boolean(const std::string& key) {
+    const toml::node* node = find(key);
+    if (node == nullptr) return std::nullopt;
+    auto b = node->value_exact<bool>();
+    if (!b) fail(*node, key, "must be true or false");
+    return b;
+  }
+
+  std::optional<std::string> string(const std::string& key, const std::string& allowed) {
+    const toml::node* node = find(key);
+    if (node == nullptr) return std::nullopt;
+    auto s = node->value_exact<std::string>();
+    if (!s) fail(*node, key, allowed);
+    return s;
+  }
+
+  // One of `names`; returns its index.
+  std::optional<int> choice(const std::string& key, const std::vector<std::string>& names) {
+    std::string allowed = "must be one of";
+    for (std::size_t k = 0; k < names.size(); ++k) allowed += (k ? ", \"" : " \"") + names[k] + "\"";
+    auto s = string(key, allowed);
+    if (!s) return std::nullopt;
+    for (std::size_t k = 0; k < names.size(); ++k)
+      if (*s == names[k]) return static_cast<int>(k);
+    fail(*find(key), key, allowed);
+  }
+
+  // Reports the first key of the section that nobody asked for.
+  void reject_unknown_keys() const {
+    if (table_ == nullptr) return;
+    for (auto&& [k, node] : *table_) {
+      const std::string key(k.str());
+      if (!known_.count(key)) {
+        std::string allowed;
+        for (const std::string& a : known_) allowed += (allowed.empty() ? "" : ", ") + a;
+        throw InputError(fmt::format("{}: unknown key '{}.{}' (keys of [{}]: {})", where(node, key), section_,
+                                     key, section_, allowed));
+      }
+    }
+  }
+
+  [[noreturn]] void fail(const toml::node& node, const std::string& key, const std::string& allowed) const {
+    std::ostringstream value;
+    if (node.is_string()) value << '"' << *node.value<std::string>() << '"';
+    else if (node.is_value()) node.visit([&](auto&& v) { value << v; });
+    else value << "<" << node.type() << ">";
+    throw InputError(fmt::format("{}: {}.{} = {}: {}", where(node, key), section_, key, value.str(), allowed));
+  }
+
+  std::string where(const toml::node& node, const std::string& key) const {
+    if (overridden_.count(section_ + "." + key)) return "--set " + section_ + "." + key;
+    if (node.source().begin.line > 0) return fmt::format("{}:{}", source_, node.source().begin.line);
+    return source_;
+  }
+
+ private:
+  const toml::node* find(const std::string& key) {
+    known_.insert(key);
+    return table_ == nullptr ? nullptr : table_->get(key);
+  }
+
+  std::string section_;
+  const std::string& source_;
+  const std::set<std::string>& overridden_;
+  const toml::table* table_ = nullptr;
+  std::set<std::string> known_;
+};
+
+auto positive = [](double v) { return v > 0.0; };
+
+// Turns "section.key=value" into a TOML value in root; the value is read as TOML when it
+// parses (numbers, booleans, quoted strings) and as a bare string otherwise (engine.kind=ed).
+void apply_override(toml::table& root, const std::string& arg, std::set<std::string>& overridden) {
+  const auto eq = arg.find('=');
+  const std::string path = arg.substr(0, eq);
+  const auto dot = path.find('.');
+  if (eq == std::string::npos || dot == std::string::npos || dot == 0 || dot + 1 == path.size() ||
+      path.find('.', dot + 1) != std::string::npos)
+    throw InputError(fmt::format("--set {}: expected section.key=value (for example --set system.n=400)", arg));
+  const std::string section = path.substr(0, dot), key = path.substr(dot + 1);
+  const std::string text = arg.substr(eq + 1);
+  toml::node* existing = root.get(section);
+  if (existing == nullptr) existing = &root.insert_or_assign(section, toml::table{}).first->second;
+  toml::table* table = existing->as_table();
+  if (table == nullptr) throw InputError(fmt::format("--set {}: [{}] is not a table", arg, section));
+  toml::table parsed;
+  try {
+    parsed = toml::parse("v = " + text);
+  } catch (const toml::parse_error&) {
+    table->insert_or_assign(key, text);
+    overridden.insert(path);
+    return;
+  }
+  const toml::node& v = *parsed.get("v");
+  if (auto i = v.value_exact<std::int64_t>()) table->insert_or_assign(key, *i);
+  else if (auto d = v.value_exact<double>()) table->insert_or_assign(key, *d);
+  else if (auto b = v.value_exact<bool>()) table->insert_or_assign(key, *b);
+  else if (auto s = v.value_exact<std::string>()) table->insert_or_assign(key, *s);
+  else throw InputError(fmt::format("--set {}: the value must be a number, a boolean or a string", arg));
+  overridden.insert(path);
+}
+
+Config read_config(const toml::table& root, const std::string& source, const std::set<std::string>& overridden) {
+  static const std::set<std::string> sections{"system", "initial", "collision", "engine", "stop", "output"};
+  for (auto&& [k, node] : root) {
+    if (!sections.count(std::string(k.str()))) {
+      const std::string where = node.source().begin.line > 0 ? fmt::format("{}:{}", source, node.source().begin.line)
+                                                             : "--set " + std::string(k.str());
+      throw InputError(fmt::format("{}: unknown section [{}] (sections: system, initial, collision, engine, stop, output)",
+                                   where, k.str()));
+    }
+  }
+  Config c;
+  c.source = source;
+
+  SectionReader sys(root, "system", source, overridden);
+  if (auto v = sys.integer("dimension", 2, 3, "must be 2 or 3")) c.system.dimension = static_cast<int>(*v);
+  if (auto v = sys.integer("n", 1, 100'000'000, "must be an integer from 1 to 100000000")) c.system.n = *v;
+  c.system.volume_fraction = sys.real("volume_fraction", [](double v) { return v > 0.0 && v < 1.0; },
+                                      "must be a number in (0, 1)");
+  c.system.box_length = sys.real("box_length", positive, "must be a number > 0");
+  if (auto v = sys.real("radius", positive, "must be a number > 0")) c.system.radius = *v;
+  if (auto v = sys.real("mass", positive, "must be a number > 0")) c.system.mass = *v;
+  if (auto v = sys.choice("boundary", {"walls", "periodic"})) c.system.boundary = static_cast<Boundary>(*v);
+  sys.reject_unknown_keys();
+
+  SectionReader ini(root, "initial", source, overridden);
+  if (auto v = ini.choice("positions", {"lattice", "random", "file"})) c.initial.positions = static_cast<InitialPositions>(*v);
+  if (auto v = ini.choice("velocities", {"fixed-speed", "uniform", "gaussian"}))
+    c.initial.velocities = static_cast<InitialVelocities>(*v);
+  if (auto v = ini.real("speed", [](double v) { return v >= 0.0; }, "must be a number >= 0")) c.initial.speed = *v;
+  if (auto v = ini.string("file", "must be a file name (a string)")) c.initial.file = *v;
+  if (auto v = ini.boolean("zero_momentum")) c.initial.zero_momentum = *v;
+  if (auto v = ini.integer("seed", 0, std::numeric_limits<std::int64_t>::max(), "must be an integer >= 0"))
+    c.initial.seed = static_cast<std::uint64_t>(*v);
+  ini.reject_unknown_keys();
+
+  SectionReader col(root, "collision", source, overridden);
+  if (auto v = col.choice("outcome", {"stick", "bounce"})) c.collision.outcome = static_cast<CollisionOutcome>(*v);
+  if (auto v = col.real("restitution", [](double v) { return v >= 0.0 && v <= 1.0; }, "must be a number in [0, 1]"))
+    c.collision.restitution = *v;
+  c.collision.tc_time = col.real("tc_time", [](double v) { return v >= 0.0; }, "must be a number >= 0");
+  col.reject_unknown_keys();
+
+  SectionReader eng(root, "engine", source, overridden);
+  if (auto v = eng.choice("kind", {"ed", "ed-naive"})) c.engine.kind = static_cast<EngineKind>(*v);
+  c.engine.skin = eng.real("skin", positive, "must be a number > 0 (a length)");
+  eng.reject_unknown_keys();
+
+  SectionReader stop(root, "stop", source, overridden);
+  if (auto v = stop.integer("clusters", 1, std::numeric_limits<std::int64_t>::max(), "must be an integer >= 1"))
+    c.stop.clusters = *v;
+  if (auto v = stop.real("time", positive, "must be a number > 0 (inf for no limit)", true)) c.stop.time = *v;
+  if (auto v = stop.real("wall_seconds", positive, "must be a number > 0 (inf for no limit)", true))
+    c.stop.wall_seconds = *v;
+  stop.reject_unknown_keys();
+
+  SectionReader out(root, "output", source, overridden);
+  if (auto v = out.real("timeseries_interval", [](double v) { return v >= 0.0; }, "must be a number >= 0 (0: none)"))
+    c.output.timeseries_interval = *v;
+  if (auto v = out.boolean("xyz")) c.output.xyz = *v;
+  out.reject_unknown_keys();
+
+  // Rules that involve several keys.
+  const bool from_file = c.initial.positions == InitialPositions::file;
+  if (c.system.volume_fraction && c.system.box_length)
+    throw InputError(fmt::format("{}: give system.volume_fraction or system.box_length, not both", source));
+  if (from_file && c.initial.file.empty())
+    throw InputError(fmt::format("{}: initial.positions = \"file\" needs initial.file", source));
+  if (from_file && !c.system.box_length)
+    throw InputError(fmt::format("{}: initial.positions = \"file\" needs system.box_length (the file gives no box)", source));
+  if (!from_file && !c.initial.file.empty())
+    throw InputError(fmt::format("{}: initial.file is only read when initial.positions = \"file\"", source));
+  if (!from_file && !c.system.box_length && !c.system.volume_fraction)
+    c.system.volume_fraction = kDefaultVolumeFraction;
+  if (c.system.volume_fraction) {
+    // Densest packings: hexagonal discs pi / (2 sqrt 3), spheres pi / (3 sqrt 2).
+    const double densest = c.system.dimension == 2 ? std::numbers::pi / (2 * std::sqrt(3.0))
+                                                   : std::numbers::pi / (3 * std::sqrt(2.0));
+    if (*c.system.volume_fraction >= densest)
+      throw InputError(fmt::format("{}: system.volume_fraction = {}: no packing of equal {} is that dense (the densest is {:.4f})",
+                                   source, *c.system.volume_fraction, c.system.dimension == 2 ? "discs" : "spheres", densest));
+  }
+  return c;
+}
+
+Config parse_root(toml::table root, const std::string& source, const std::vector<std::string>& overrides) {
+  std::set<std::string> overridden;
+  for (const std::string& o : overrides) apply_override(root, o, overridden);
+  return read_config(root, source, overridden);
+}
+
+std::string parse_error_message(const toml::parse_error& e, const std::string& source) {
+  return fmt::format("{}:{}: invalid TOML: {}", source, e.source().begin.line, e.description());
+}
+
+}  // namespace
+
+Config parse_config_text(std::string_view text, const std::string& source_name, const std::vector<std::string>& overrides) {
+  toml::table root;
+  try {
+    root = toml::parse(text, source_name);
+  } catch (const toml::parse_error& e) {
+    throw InputError(parse_error_message(e, source_name));
+  }
+  return parse_root(std::move(root), source_name, overrides);
+}
+
+Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
+  if (path.empty()) return parse_config_text("", "(defaults)", overrides);
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot read the config file", path));
+  std::stringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError(fmt::format("{}: cannot read the config file", path));
+  return parse_config_text(text.str(), path, overrides);
+}
+
+double resolved_box_length(const Config& c) {
+  if (c.system.box_length) return *c.system.box_length;
+  const double n = static_cast<double>(c.system.n), r = c.system.radius;
+  const double vf = c.system.volume_fraction.value_or(kDefaultVolumeFraction);
+  if (c.system.dimension == 2) return std::sqrt(n * std::numbers::pi * r * r / vf);
+  return std::cbrt(n * 4.0 / 3.0 * std::numbers::pi * r * r * r / vf);
+}
+
+std::string_view to_string(InitialPositions p) {
+  static constexpr std::string_view names[] = {"lattice", "random", "file"};
+  return names[static_cast<int>(p)];
+}
+std::string_view to_string(InitialVelocities v) {
+  static constexpr std::string_view names[] = {"fixed-speed", "uniform", "gaussian"};
+  return names[static_cast<int>(v)];
+}
+std::string_view to_string(EngineKind k) { return k == EngineKind::ed ? "ed" : "ed-naive"; }
+std::string_view to_string(CollisionOutcome o) { return o == CollisionOutcome::stick ? "stick" : "bounce"; }
+
+namespace {
+
+toml::table to_table(const Config& c) {
+  auto str = [](std::string_view s) { return std::string(s); };
+  toml::table system{{"dimension", c.system.dimension}, {"n", c.system.n}, {"radius", c.system.radius},
+                     {"mass", c.system.mass}, {"boundary", str(to_string(c.system.boundary))}};
+  if (c.system.volume_fraction) system.insert("volume_fraction", *c.system.volume_fraction);
+  if (c.system.box_length) system.insert("box_length", *c.system.box_length);
+  toml::table initial{{"positions", str(to_string(c.initial.positions))},
+                      {"velocities", str(to_string(c.initial.velocities))},
+                      {"speed", c.initial.speed},
+                      {"zero_momentum", c.initial.zero_momentum},
+                      {"seed", static_cast<std::int64_t>(c.initial.seed)}};
+  if (!c.initial.file.empty()) initial.insert("file", c.initial.file);
+  toml::table collision{{"outcome", str(to_string(c.collision.outcome))}, {"restitution", c.collision.restitution}};
+  if (c.collision.tc_time) collision.insert("tc_time", *c.collision.tc_time);
+  toml::table engine{{"kind", str(to_string(c.engine.kind))}};
+  if (c.engine.skin) engine.insert("skin", *c.engine.skin);
+  toml::table stop{{"clusters", c.stop.clusters}, {"time", c.stop.time}, {"wall_seconds", c.stop.wall_seconds}};
+  toml::table output{{"timeseries_interval", c.output.timeseries_interval}, {"xyz", c.output.xyz}};
+  return toml::table{{"system", system}, {"initial", initial}, {"collision", collision},
+                     {"engine", engine}, {"stop", stop},     {"output", output}};
+}
+
+}  // namespace
+
+std::string to_toml_text(const Config& c) {
+  std::ostringstream out;
+  out << to_table(c) << '\n';
+  return out.str();
+}
+
+std::string to_json_text(const Config& c) {
+  std::ostringstream out;
+  out << toml::json_formatter{to_table(c)};
+  return out.str();
+}
+
+}  // namespace ballagg

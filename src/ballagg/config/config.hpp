@@ -1,0 +1,103 @@
+#pragma once
+// A run's configuration: read from TOML (a file, command-line --set overrides, or the
+// embedded defaults), checked key by key, with errors that name the file line or the
+// --set argument and what is allowed.
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "ballagg/engines/engine.hpp"
+#include "ballagg/spatial/box.hpp"
+
+namespace ballagg {
+
+// Bad input: the message is one line for the user; the command line exits with status 2.
+class InputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class InitialPositions { lattice, random, file };
+enum class InitialVelocities { fixed_speed, uniform, gaussian };
+enum class EngineKind { ed, ed_naive };
+
+struct SystemConfig {
+  int dimension = 2;
+  std::int64_t n = 2500;
+  std::optional<double> volume_fraction;  // 0.2 when neither this nor box_length is given
+  std::optional<double> box_length;
+  double radius = 0.2;
+  double mass = 1.0;
+  Boundary boundary = Boundary::walls;
+};
+
+struct InitialConfig {
+  InitialPositions positions = InitialPositions::lattice;
+  InitialVelocities velocities = InitialVelocities::fixed_speed;
+  double speed = 1.0;
+  std::string file;
+  bool zero_momentum = false;
+  std::uint64_t seed = 1;
+};
+
+struct CollisionConfig {
+  CollisionOutcome outcome = CollisionOutcome::stick;
+  double restitution = 1.0;
+  std::optional<double> tc_time;  // default: kDefaultTcFraction * diameter / rms speed
+};
+
+struct EngineConfig {
+  EngineKind kind = EngineKind::ed;
+  std::optional<double> skin;     // default: the mean sphere radius
+};
+
+struct StopConfig {
+  std::int64_t clusters = 1;
+  double time = std::numeric_limits<double>::infinity();
+  double wall_seconds = std::numeric_limits<double>::infinity();
+};
+
+struct OutputConfig {
+  double timeseries_interval = 0.0;  // simulated time between extra rows; 0: none
+  bool xyz = true;
+};
+
+struct Config {
+  SystemConfig system;
+  InitialConfig initial;
+  CollisionConfig collision;
+  EngineConfig engine;
+  StopConfig stop;
+  OutputConfig output;
+  std::string source = "(defaults)";  // where it was read from, for messages
+};
+
+inline constexpr double kDefaultVolumeFraction = 0.2;
+// Default TC time as a fraction of (mean diameter / initial rms speed).
+inline constexpr double kDefaultTcFraction = 1e-9;
+
+// Reads `path` (or the defaults when empty) and applies "section.key=value" overrides.
+// Throws InputError.
+Config load_config(const std::string& path, const std::vector<std::string>& overrides);
+// Parses TOML text (used for the embedded defaults and by tests).
+Config parse_config_text(std::string_view text, const std::string& source_name,
+                         const std::vector<std::string>& overrides = {});
+
+// The box length: given, or from the volume fraction (2D: L = sqrt(N pi R^2 / Vf),
+// 3D: L = cbrt(N 4/3 pi R^3 / Vf)).
+double resolved_box_length(const Config& c);
+
+// The configuration as TOML text with every key (the resolved config of a run).
+std::string to_toml_text(const Config& c);
+// The same, as a JSON object text (for summary.json).
+std::string to_json_text(const Config& c);
+
+std::string_view to_string(InitialPositions p);
+std::string_view to_string(InitialVelocities v);
+std::string_view to_string(EngineKind k);
+std::string_view to_string(CollisionOutcome o);
+
+}  // namespace ballagg

@@ -1,0 +1,115 @@
+#pragma once
+// The state shared by every engine: spheres (struct of arrays, indexed by sphere id) and
+// the rigid clusters they belong to (indexed by cluster id).
+//
+// Clusters translate without rotating (paper §2), so a sphere's position is its cluster's
+// position plus a fixed body-frame offset. Each cluster stores where its body origin was at
+// one instant (anchor, anchor_time) and its velocity: positions at any time t are evaluated
+// lazily, so a cluster of a million spheres moves, bounces or changes velocity in O(1).
+#include <cstdint>
+#include <vector>
+
+#include "ballagg/core/vec.hpp"
+#include "ballagg/spatial/box.hpp"
+
+namespace ballagg {
+
+template <int D>
+struct Spheres {
+  std::vector<Vec<D>> offset;          // position relative to the owning cluster's anchor
+  std::vector<double> radius;
+  std::vector<double> mass;
+  std::vector<std::int32_t> cluster;   // owning cluster id
+
+  int size() const { return static_cast<int>(radius.size()); }
+};
+
+template <int D>
+struct Cluster {
+  Vec<D> anchor = Vec<D>::Zero();      // body origin at anchor_time (folded into the box if periodic)
+  double anchor_time = 0.0;
+  Vec<D> velocity = Vec<D>::Zero();
+  double mass = 0.0;
+  std::vector<std::int32_t> members;   // sphere ids, empty once merged into another cluster
+  Vec<D> lo = Vec<D>::Zero();          // body-frame bounding box of the member spheres,
+  Vec<D> hi = Vec<D>::Zero();          // radii included (used for wall contacts)
+  std::uint64_t stamp = 0;             // renewed at every change of motion or membership
+  double last_collision_time = -1e300; // for the TC model of inelastic collapse
+
+  bool alive() const { return !members.empty(); }
+  int size() const { return static_cast<int>(members.size()); }
+};
+
+template <int D>
+class State {
+ public:
+  Box<D> box;
+  Spheres<D> spheres;
+  std::vector<Cluster<D>> clusters;
+  double time = 0.0;
+
+  // Call once spheres and clusters are filled: computes extents, stamps and totals.
+  void finalize();
+
+  int n_spheres() const { return spheres.size(); }
+  int n_clusters() const { return alive_clusters_; }
+  int largest_cluster() const { return largest_cluster_; }
+  double min_diameter() const { return min_diameter_; }
+  double max_radius() const { return max_radius_; }
+  double mean_radius() const { return mean_radius_; }
+
+  const Cluster<D>& cluster_of(int sphere) const { return clusters[spheres.cluster[sphere]]; }
+
+  // Where the body origin of cluster c is at time t, not folded into the box.
+  Vec<D> origin(int c, double t) const {
+    const Cluster<D>& k = clusters[c];
+    return k.anchor + (t - k.anchor_time) * k.velocity;
+  }
+  // Sphere centre at time t, not folded into the box (differences need box.separation).
+  Vec<D> unwrapped_position(int i, double t) const {
+    return origin(spheres.cluster[i], t) + spheres.offset[i];
+  }
+  Vec<D> position(int i, double t) const { return box.wrap(unwrapped_position(i, t)); }
+  const Vec<D>& velocity(int i) const { return cluster_of(i).velocity; }
+
+  // Gives cluster c velocity v from time t on (re-anchors it at t). A component along an
+  // axis where the cluster spans the whole box is set to zero (wall pinning, docs/model.md).
+  void set_velocity(int c, const Vec<D>& v, double t);
+
+  // Merges the clusters of the touching spheres i and j at time t into one rigid cluster
+  // moving with the mass-weighted mean velocity (rule 2.9). The larger cluster (the one
+  // with the lower id on a tie) survives and is returned; the other is left empty.
+  int merge(int i, int j, double t);
+
+  // Invalidates every prediction made for cluster c without changing its motion.
+  void renew_stamp(int c) { clusters[c].stamp = new_stamp(); }
+
+  // True when cluster c spans the box along axis a (walls only): it cannot move along a.
+  bool pinned(int c, int a) const;
+
+  // Totals computed from scratch (exact up to summation round-off).
+  double kinetic_energy() const;
+  Vec<D> momentum() const;
+  double total_mass() const;
+  // Sum of m_i |V_i|: the scale against which momentum errors are measured.
+  double momentum_scale() const;
+
+  // Number of times a velocity component was zeroed by wall pinning.
+  std::int64_t pinnings() const { return pinnings_; }
+
+ private:
+  std::uint64_t new_stamp() { return ++last_stamp_; }
+
+  std::uint64_t last_stamp_ = 0;
+  int alive_clusters_ = 0;
+  int largest_cluster_ = 0;
+  double min_diameter_ = 0.0;
+  double max_radius_ = 0.0;
+  double mean_radius_ = 0.0;
+  std::int64_t pinnings_ = 0;
+};
+
+extern template class State<2>;
+extern template class State<3>;
+
+}  // namespace ballagg

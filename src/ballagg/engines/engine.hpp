@@ -1,0 +1,81 @@
+#pragma once
+// The small interface every engine implements: take a state, advance it until a stop
+// criterion holds, report what happened to an observer.
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "ballagg/core/state.hpp"
+
+namespace ballagg {
+
+enum class CollisionOutcome { stick, bounce };
+
+struct CollisionSettings {
+  CollisionOutcome outcome = CollisionOutcome::stick;
+  double restitution = 1.0;  // bounce only, in [0, 1]
+  // TC model (Luding & McNamara 1998): a bounce involving a body whose previous collision
+  // was less than tc_time ago is elastic. Prevents inelastic collapse (infinitely many
+  // collisions in a finite time) from stalling a run. 0 disables it.
+  double tc_time = 0.0;
+};
+
+struct StopCriteria {
+  int clusters = 1;
+  double time = std::numeric_limits<double>::infinity();
+  double wall_seconds = std::numeric_limits<double>::infinity();
+};
+
+enum class StopReason { clusters, time, wall_seconds, no_more_events, no_collision_possible };
+std::string_view to_string(StopReason r);
+
+enum class EventKind : std::uint8_t { collision = 0, wall = 1, list_rebuild = 2 };
+
+// What the engine tells an observer after each event it handled.
+struct EventRecord {
+  double time = 0.0;
+  EventKind kind = EventKind::collision;
+  int sphere_i = -1, sphere_j = -1;  // collision: the touching spheres (i < j)
+  int cluster = -1;                  // surviving / reflected / rebuilt cluster
+  int axis = -1;                     // wall: the axis of the wall's normal
+  int merges = 0;                    // clusters absorbed by this event (cascade included)
+};
+
+struct EngineCounters {
+  std::int64_t events = 0;           // every event handled, list rebuilds included
+  std::int64_t collisions = 0;       // sphere-sphere contacts between different clusters
+  std::int64_t merges = 0;           // clusters absorbed (>= sticking collisions: cascades)
+  std::int64_t bounces = 0;
+  std::int64_t wall_bounces = 0;
+  std::int64_t list_rebuilds = 0;
+  std::int64_t queue_peak = 0;
+};
+
+struct RunResult {
+  StopReason reason = StopReason::clusters;
+  EngineCounters counters;
+  double wall_seconds = 0.0;
+};
+
+template <int D>
+class RunObserver {
+ public:
+  virtual ~RunObserver() = default;
+  virtual void on_start(const State<D>&) {}
+  // Called before the state is advanced to an event at time t (t >= state.time).
+  virtual void before_event(const State<D>&, double /*t*/) {}
+  virtual void after_event(const State<D>&, const EventRecord&, const EngineCounters&) {}
+  virtual void on_finish(const State<D>&, const RunResult&) {}
+};
+
+template <int D>
+class Engine {
+ public:
+  virtual ~Engine() = default;
+  virtual std::string_view name() const = 0;
+  virtual RunResult run(State<D>& state, const StopCriteria& stop, RunObserver<D>& observer) = 0;
+};
+
+}  // namespace ballagg

@@ -1,0 +1,256 @@
+// The exact event-driven engine. One event is one of:
+//   collision     two spheres of different clusters touch: stick (rule 2.9) or bounce (2.6);
+//   wall          a cluster's bounding box touches a wall it moves towards (rule 2.2);
+//   list_rebuild  a cluster has travelled half the skin: its neighbour lists expire.
+//
+// What must be re-predicted when a cluster's velocity changes? Only the pairs formed by
+// its *exposed* spheres (those with foreign neighbours within sigma + skin) and its own
+// wall and rebuild times. Its partners' other predictions stay valid: a stale event is
+// recognised by its stamps when it reaches the top of the queue. Positions are evaluated
+// lazily from each cluster's anchor, so moving a cluster costs nothing.
+//
+// Why the lists stay valid: a pair absent from the lists was farther apart than
+// sigma + skin at the later of its two clusters' last rebuilds, and since then each sphere
+// has travelled (path length, walls included) at most skin / 2, so the pair is still apart.
+#include "ballagg/engines/event_driven/event_driven_engine.hpp"
+
+#include <algorithm>
+#include <limits>
+#include <optional>
+
+#include "ballagg/collision/prediction.hpp"
+#include "ballagg/collision/resolve.hpp"
+#include "ballagg/engines/event_driven/event_loop.hpp"
+#include "ballagg/engines/event_driven/event_queue.hpp"
+#include "ballagg/spatial/cell_grid.hpp"
+#include "ballagg/spatial/neighbor_lists.hpp"
+
+namespace ballagg {
+namespace {
+
+template <int D>
+class EventDrivenCore {
+ public:
+  EventDrivenCore(State<D>& state, const EventDrivenSettings& settings)
+      : s_(state), law_(settings.collision), skin_(choose_skin(state, settings.skin)),
+        grid_(state.box, 2.0 * state.max_radius() + 1.5 * skin_, state.n_spheres()) {
+    const int n = s_.n_spheres();
+    const int m = static_cast<int>(s_.clusters.size());
+    travel_base_.assign(m, 0.0);
+    lists_.reset(n, m);
+    for (int i = 0; i < n; ++i) grid_.insert(i, s_.position(i, s_.time));
+    for (int c = 0; c < m; ++c)
+      if (s_.clusters[c].alive()) travel_base_[c] = -travelled_since_anchor(c, s_.time);
+    for (int i = 0; i < n; ++i) find_partners(i, s_.time, /*only_higher=*/true);
+    for (int c = 0; c < m; ++c)
+      if (s_.clusters[c].alive()) predict(c, /*skip_lower_clusters=*/true);
+  }
+
+  EngineCounters& counters() { return count_; }
+
+  std::optional<Event> next_event() {
+    while (!queue_.empty()) {
+      const Event e = queue_.top();
+      queue_.pop();
+      if (valid(e)) return e;
+    }
+    return std::nullopt;
+  }
+
+  EventRecord handle(const Event& e) {
+    switch (e.kind) {
+      case EventKind::collision: return collide(e.a, e.b, e.time);
+      case EventKind::wall: return reflect(e.a, e.b, e.time);
+      case EventKind::list_rebuild: return rebuild(e.a, e.time);
+    }
+    return {};
+  }
+
+ private:
+  // The default skin: one mean radius. Periodic boxes need every listed pair to be closer
+  // than half the box, so the skin shrinks in a small periodic box.
+  static double choose_skin(const State<D>& s, double requested) {
+    double skin = requested > 0.0 ? requested : s.mean_radius();
+    if (s.box.periodic()) {
+      const double room = (0.5 * s.box.length - 2.0 * s.max_radius()) / 1.5;
+      skin = std::min(skin, 0.99 * room);
+    }
+    return skin;
+  }
+
+  bool valid(const Event& e) const {
+    if (e.kind == EventKind::collision) {
+      return s_.cluster_of(e.a).stamp == e.stamp_a && s_.cluster_of(e.b).stamp == e.stamp_b;
+    }
+    return s_.clusters[e.a].stamp == e.stamp_a;
+  }
+
+  // ---- neighbour lists -------------------------------------------------------------------
+
+  double travelled_since_anchor(int c, double t) const {
+    const Cluster<D>& k = s_.clusters[c];
+    return k.velocity.norm() * (t - k.anchor_time);
+  }
+  double travelled(int c, double t) const { return travel_base_[c] + travelled_since_anchor(c, t); }
+  // Must be called just before cluster c is re-anchored at t (velocity change or merge).
+  void fold_travel(int c, double t) { travel_base_[c] = travelled(c, t); }
+
+  double rebuild_time(int c) const {
+    const Cluster<D>& k = s_.clusters[c];
+    const double speed = k.velocity.norm();
+    if (speed == 0.0) return kNever;
+    return k.anchor_time + (0.5 * skin_ - travel_base_[c]) / speed;
+  }
+
+  // Lists sphere i against every foreign sphere within sigma + skin at time t.
+  void find_partners(int i, double t, bool only_higher) {
+    const std::int32_t* cluster = s_.spheres.cluster.data();
+    const Vec<D> xi = s_.unwrapped_position(i, t);
+    const double ri = s_.spheres.radius[i];
+    grid_.for_each_near(s_.box.wrap(xi), [&](int j) {
+      if (cluster[j] == cluster[i] || (only_higher && j < i)) return;
+      const double reach = ri + s_.spheres.radius[j] + skin_;
+      if (s_.box.separation(xi, s_.unwrapped_position(j, t)).squaredNorm() < reach * reach)
+        lists_.add_pair(i, j, cluster);
+    });
+  }
+
+  EventRecord rebuild(int c, double t) {
+    const std::int32_t* cluster = s_.spheres.cluster.data();
+    const std::vector<std::int32_t> was_exposed = lists_.exposed(c);
+    for (int i : was_exposed) lists_.remove_all_pairs(i, cluster);
+    const Cluster<D>& k = s_.clusters[c];
+    for (int i : k.members) grid_.move(i, s_.position(i, t));
+    for (int i : k.members) find_partners(i, t, /*only_higher=*/false);
+    travel_base_[c] = -travelled_since_anchor(c, t);
+    s_.renew_stamp(c);
+    predict(c);
+    ++count_.list_rebuilds;
+    return {.time = t, .kind = EventKind::list_rebuild, .cluster = c};
+  }
+
+  // ---- predictions -----------------------------------------------------------------------
+
+  // Pushes the next wall contact, list rebuild and pair contacts of cluster c. Pair events
+  // later than either cluster's list rebuild are not pushed: the rebuild predicts them.
+  void predict(int c, bool skip_lower_clusters = false, int skip_cluster = -1) {
+    const Cluster<D>& k = s_.clusters[c];
+    const WallContact w = next_wall_contact(s_, c);
+    if (w.time < kNever) queue_.push({w.time, c, w.axis, k.stamp, 0, EventKind::wall});
+    const double horizon = rebuild_time(c);
+    if (horizon < kNever) queue_.push({horizon, c, 0, k.stamp, 0, EventKind::list_rebuild});
+    const std::int32_t* cluster = s_.spheres.cluster.data();
+    for (int i : lists_.exposed(c)) {
+      for (int j : lists_.partners(i)) {
+        const int d = cluster[j];
+        if (d == skip_cluster || (skip_lower_clusters && d < c)) continue;
+        const double t = predicted_contact(s_, i, j);
+        if (t >= horizon || t >= rebuild_time(d)) continue;
+        const int lo = std::min(i, j), hi = std::max(i, j);
+        queue_.push({t, lo, hi, s_.cluster_of(lo).stamp, s_.cluster_of(hi).stamp, EventKind::collision});
+      }
+    }
+    count_.queue_peak = std::max<std::int64_t>(count_.queue_peak, queue_.size());
+    if (queue_.size() > compact_at_) {
+      queue_.drop_stale([this](const Event& e) { return valid(e); });
+      compact_at_ = std::max<std::size_t>(2 * queue_.size(), kMinCompaction);
+    }
+  }
+
+  // ---- event handlers --------------------------------------------------------------------
+
+  EventRecord reflect(int c, int axis, double t) {
+    fold_travel(c, t);
+    reflect_cluster(s_, c, axis, t);
+    predict(c);
+    ++count_.wall_bounces;
+    return {.time = t, .kind = EventKind::wall, .cluster = c, .axis = axis};
+  }
+
+  EventRecord collide(int i, int j, double t) {
+    ++count_.collisions;
+    EventRecord r{.time = t, .kind = EventKind::collision, .sphere_i = i, .sphere_j = j};
+    const int a = s_.spheres.cluster[i], b = s_.spheres.cluster[j];
+    if (law_.outcome == CollisionOutcome::bounce) {
+      fold_travel(a, t);
+      fold_travel(b, t);
+      bounce_clusters(s_, i, j, t, law_);
+      predict(a);
+      predict(b, false, a);
+      ++count_.bounces;
+      r.cluster = a;
+      return r;
+    }
+    int keep = stick(i, j, t);
+    ++r.merges;
+    // Contact cascade: a sphere touching the new cluster at this instant sticks too.
+    while (auto pair = touching_pair(keep, t)) {
+      keep = stick(pair->first, pair->second, t);
+      ++r.merges;
+    }
+    predict(keep);
+    r.cluster = keep;
+    return r;
+  }
+
+  int stick(int i, int j, double t) {
+    const int a = s_.spheres.cluster[i], b = s_.spheres.cluster[j];
+    const double budget_used = std::max(travelled(a, t), travelled(b, t));
+    const int keep = s_.merge(i, j, t);
+    lists_.absorb(keep, keep == a ? b : a, s_.spheres.cluster.data());
+    travel_base_[keep] = budget_used;
+    ++count_.merges;
+    return keep;
+  }
+
+  // The foreign pair (lowest sphere ids first) touching cluster c at time t, if any.
+  std::optional<std::pair<int, int>> touching_pair(int c, double t) const {
+    std::optional<std::pair<int, int>> best;
+    for (int i : lists_.exposed(c)) {
+      for (int j : lists_.partners(i)) {
+        if (!touching(s_, i, j, t)) continue;
+        const std::pair<int, int> p{std::min(i, j), std::max(i, j)};
+        if (!best || p < *best) best = p;
+      }
+    }
+    return best;
+  }
+
+  static constexpr std::size_t kMinCompaction = 1 << 16;
+
+  State<D>& s_;
+  CollisionSettings law_;
+  double skin_;
+  CellGrid<D> grid_;
+  NeighborLists lists_;
+  EventQueue queue_;
+  std::vector<double> travel_base_;  // path length travelled by a cluster at its anchor time
+  EngineCounters count_;
+  std::size_t compact_at_ = kMinCompaction;
+};
+
+template <int D>
+class EventDrivenEngine final : public Engine<D> {
+ public:
+  explicit EventDrivenEngine(const EventDrivenSettings& settings) : settings_(settings) {}
+  std::string_view name() const override { return "ed"; }
+  RunResult run(State<D>& state, const StopCriteria& stop, RunObserver<D>& observer) override {
+    EventDrivenCore<D> core(state, settings_);
+    return run_event_loop(core, state, stop, observer);
+  }
+
+ private:
+  EventDrivenSettings settings_;
+};
+
+}  // namespace
+
+template <int D>
+std::unique_ptr<Engine<D>> make_event_driven_engine(const EventDrivenSettings& settings) {
+  return std::make_unique<EventDrivenEngine<D>>(settings);
+}
+
+template std::unique_ptr<Engine<2>> make_event_driven_engine<2>(const EventDrivenSettings&);
+template std::unique_ptr<Engine<3>> make_event_driven_engine<3>(const EventDrivenSettings&);
+
+}  // namespace ballagg

@@ -1,0 +1,108 @@
+// The paper's plain event-driven method (Appendix A), kept deliberately simple: before
+// every event, the contact time (A.3) of every pair of spheres in different clusters and
+// the wall time of every cluster are recomputed, and the earliest is handled. O(N^2) per
+// event; the reference against which the fast engine is tested.
+#include <optional>
+
+#include "ballagg/collision/prediction.hpp"
+#include "ballagg/collision/resolve.hpp"
+#include "ballagg/engines/event_driven/event_driven_engine.hpp"
+#include "ballagg/engines/event_driven/event_loop.hpp"
+
+namespace ballagg {
+namespace {
+
+template <int D>
+class NaiveCore {
+ public:
+  NaiveCore(State<D>& state, const CollisionSettings& law) : s_(state), law_(law) {}
+
+  EngineCounters& counters() { return count_; }
+
+  std::optional<Event> next_event() {
+    std::optional<Event> best;
+    auto consider = [&](const Event& e) {
+      if (e.time < kNever && (!best || later(*best, e))) best = e;
+    };
+    const int n = s_.n_spheres();
+    const std::int32_t* cluster = s_.spheres.cluster.data();
+    for (int i = 0; i < n; ++i)
+      for (int j = i + 1; j < n; ++j)
+        if (cluster[i] != cluster[j])
+          consider({predicted_contact(s_, i, j), i, j, 0, 0, EventKind::collision});
+    for (int c = 0; c < static_cast<int>(s_.clusters.size()); ++c) {
+      if (!s_.clusters[c].alive()) continue;
+      const WallContact w = next_wall_contact(s_, c);
+      consider({w.time, c, w.axis, 0, 0, EventKind::wall});
+    }
+    return best;
+  }
+
+  EventRecord handle(const Event& e) {
+    const double t = e.time;
+    if (e.kind == EventKind::wall) {
+      reflect_cluster(s_, e.a, e.b, t);
+      ++count_.wall_bounces;
+      return {.time = t, .kind = EventKind::wall, .cluster = e.a, .axis = e.b};
+    }
+    ++count_.collisions;
+    EventRecord r{.time = t, .kind = EventKind::collision, .sphere_i = e.a, .sphere_j = e.b};
+    if (law_.outcome == CollisionOutcome::bounce) {
+      r.cluster = s_.spheres.cluster[e.a];
+      bounce_clusters(s_, e.a, e.b, t, law_);
+      ++count_.bounces;
+      return r;
+    }
+    int keep = s_.merge(e.a, e.b, t);
+    ++r.merges;
+    while (auto pair = touching_pair(keep, t)) {
+      keep = s_.merge(pair->first, pair->second, t);
+      ++r.merges;
+    }
+    count_.merges += r.merges;
+    r.cluster = keep;
+    return r;
+  }
+
+ private:
+  std::optional<std::pair<int, int>> touching_pair(int c, double t) const {
+    const int n = s_.n_spheres();
+    for (int i = 0; i < n; ++i) {
+      for (int j = i + 1; j < n; ++j) {
+        const int ci = s_.spheres.cluster[i], cj = s_.spheres.cluster[j];
+        if (ci != cj && (ci == c || cj == c) && touching(s_, i, j, t)) return std::pair{i, j};
+      }
+    }
+    return std::nullopt;
+  }
+
+  State<D>& s_;
+  CollisionSettings law_;
+  EngineCounters count_;
+};
+
+template <int D>
+class NaiveEngine final : public Engine<D> {
+ public:
+  explicit NaiveEngine(const CollisionSettings& law) : law_(law) {}
+  std::string_view name() const override { return "ed-naive"; }
+  RunResult run(State<D>& state, const StopCriteria& stop, RunObserver<D>& observer) override {
+    NaiveCore<D> core(state, law_);
+    return run_event_loop(core, state, stop, observer);
+  }
+
+ private:
+  CollisionSettings law_;
+};
+
+}  // namespace
+
+template <int D>
+std::unique_ptr<Engine<D>> make_naive_event_driven_engine(const CollisionSettings& settings) {
+  return std::make_unique<NaiveEngine<D>>(settings);
+}
+
+template std::unique_ptr<Engine<2>> make_naive_event_driven_engine<2>(const CollisionSettings&);
+template std::unique_ptr<Engine<3>> make_naive_event_driven_engine<3>(const CollisionSettings&);
+
+}  // namespace ballagg

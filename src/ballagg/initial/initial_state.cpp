@@ -1,0 +1,260 @@
+#include "ballagg/initial/initial_state.hpp"
+
+#include <cmath>
+#include <deque>
+#include <map>
+#include <numbers>
+
+#include <fmt/format.h>
+
+#include "ballagg/core/random.hpp"
+#include "ballagg/core/tolerances.hpp"
+#include "ballagg/spatial/cell_grid.hpp"
+
+namespace ballagg {
+namespace {
+
+// Random sequential addition gives up on a sphere after this many rejected tries.
+constexpr int kMaxPlacementTries = 100000;
+
+std::string fmt_vec(const auto& v) {
+  std::string s = "(";
+  for (int a = 0; a < v.size(); ++a) s += fmt::format("{}{}", a ? ", " : "", v[a]);
+  return s + ")";
+}
+
+std::string where(const auto& table, int sphere) {
+  if (table.line.empty()) return fmt::format("sphere {}", sphere);
+  return fmt::format("{}:{}", table.source, table.line[sphere]);
+}
+
+template <int D>
+std::vector<Vec<D>> lattice_positions(const Config& c, const Box<D>& box) {
+  const std::int64_t n = c.system.n;
+  std::int64_t side = 1;
+  while (static_cast<std::int64_t>(std::pow(side, D) + 0.5) < n) ++side;
+  const double spacing = box.length / side;
+  if (spacing <= 2.0 * c.system.radius) {
+    const double max_vf = (D == 2 ? std::numbers::pi / 4.0 : std::numbers::pi / 6.0) *
+                          static_cast<double>(n) / std::pow(side, D);
+    throw InputError(fmt::format(
+        "{}: initial.positions = \"lattice\": {} spheres need a {}-per-side lattice whose spacing {:.6g} is not larger "
+        "than the diameter {:.6g}; lower system.volume_fraction below {:.4f} (or the radius), or enlarge the box",
+        c.source, n, side, spacing, 2.0 * c.system.radius, max_vf));
+  }
+  std::vector<Vec<D>> x(n);
+  for (std::int64_t k = 0; k < n; ++k) {
+    std::int64_t rest = k;
+    for (int a = 0; a < D; ++a) {
+      x[k][a] = (static_cast<double>(rest % side) + 0.5) * spacing;
+      rest /= side;
+    }
+  }
+  return x;
+}
+
+template <int D>
+std::vector<Vec<D>> random_positions(const Config& c, const Box<D>& box) {
+  const std::int64_t n = c.system.n;
+  const double r = c.system.radius;
+  if (!box.periodic() && box.length <= 2.0 * r)
+    throw InputError(fmt::format("{}: the box length {:.6g} is not larger than a sphere's diameter {:.6g}", c.source,
+                                 box.length, 2.0 * r));
+  Random rng(c.initial.seed, RandomPurpose::positions);
+  CellGrid<D> grid(box, 2.0 * r, static_cast<int>(n));
+  std::vector<Vec<D>> x;
+  x.reserve(n);
+  const double lo = box.periodic() ? 0.0 : r, hi = box.periodic() ? box.length : box.length - r;
+  for (std::int64_t k = 0; k < n; ++k) {
+    int tries = 0;
+    while (true) {
+      Vec<D> p;
+      for (int a = 0; a < D; ++a) p[a] = box.wrap(rng.uniform(lo, hi));
+      bool free = true;
+      grid.for_each_near(p, [&](int j) { free = free && box.separation(p, x[j]).norm() > 2.0 * r; });
+      if (free) {
+        grid.insert(static_cast<int>(k), p);
+        x.push_back(p);
+        break;
+      }
+      if (++tries == kMaxPlacementTries) {
+        throw InputError(fmt::format(
+            "{}: initial.positions = \"random\": sphere {} of {} found no free place in {} tries; the volume fraction "
+            "is too high for random placement (random sequential addition jams near {}), use initial.positions = "
+            "\"lattice\" or a lower system.volume_fraction",
+            c.source, k + 1, n, kMaxPlacementTries, D == 2 ? "0.547 in 2D" : "0.38 in 3D"));
+      }
+    }
+  }
+  return x;
+}
+
+template <int D>
+std::vector<Vec<D>> random_velocities(const Config& c, std::int64_t n) {
+  Random rng(c.initial.seed, RandomPurpose::velocities);
+  std::vector<Vec<D>> v(n);
+  const double speed = c.initial.speed;
+  for (Vec<D>& vi : v) {
+    switch (c.initial.velocities) {
+      case InitialVelocities::fixed_speed:  // eq. (4.2): given speed, uniform direction
+        vi = speed * rng.unit_vector<D>();
+        break;
+      case InitialVelocities::uniform:  // App. A: each component uniform in [-1/2, 1/2], times speed
+        for (int a = 0; a < D; ++a) vi[a] = speed * (rng.uniform() - 0.5);
+        break;
+      case InitialVelocities::gaussian:  // Maxwellian with mean square speed = speed^2
+        for (int a = 0; a < D; ++a) vi[a] = speed / std::sqrt(static_cast<double>(D)) * rng.normal();
+        break;
+    }
+  }
+  return v;
+}
+
+// Offsets of glued spheres relative to their cluster's first sphere. With periodic faces a
+// cluster may straddle the box, so it is unwrapped along chains of near spheres (closer
+// than twice their contact distance), where the minimum image is the true separation.
+template <int D>
+std::vector<Vec<D>> unwrapped_offsets(const Box<D>& box, const SphereTable<D>& t, const std::vector<int>& label,
+                                      const std::vector<std::vector<int>>& members, CellGrid<D>& grid) {
+  const int n = static_cast<int>(t.radius.size());
+  std::vector<Vec<D>> offset(n, Vec<D>::Zero());
+  std::vector<char> placed(n, 0);
+  for (const std::vector<int>& group : members) {
+    const int root = group.front();
+    placed[root] = 1;
+    std::deque<int> queue{root};
+    while (!queue.empty()) {
+      const int s = queue.front();
+      queue.pop_front();
+      grid.for_each_near(t.position[s], [&](int j) {
+        if (placed[j] || label[j] != label[s]) return;
+        const Vec<D> d = box.separation(t.position[j], t.position[s]);
+        if (d.norm() >= 2.0 * (t.radius[s] + t.radius[j]) || d.norm() >= 0.5 * box.length) return;
+        offset[j] = offset[s] + d;
+        placed[j] = 1;
+        queue.push_back(j);
+      });
+    }
+    for (int j : group)
+      if (!placed[j]) offset[j] = box.separation(t.position[j], t.position[root]);
+  }
+  return offset;
+}
+
+}  // namespace
+
+template <int D>
+State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table_in) {
+  SphereTable<D> t = table_in;
+  const int n = static_cast<int>(t.radius.size());
+  double max_radius = 0.0, max_speed = 0.0;
+  for (int i = 0; i < n; ++i) {
+    max_radius = std::max(max_radius, t.radius[i]);
+    max_speed = std::max(max_speed, t.velocity[i].norm());
+  }
+  if (box.periodic() && box.length <= 4.0 * max_radius)
+    throw InputError(fmt::format("system.box_length = {}: a periodic box must be longer than 4 times the largest "
+                                 "radius ({}) so that each pair has one nearest image", box.length, max_radius));
+  for (int i = 0; i < n; ++i) {
+    if (box.periodic()) {
+      t.position[i] = box.wrap(t.position[i]);
+      continue;
+    }
+    const double slack = tolerance::kInputOverlap * 2.0 * t.radius[i];
+    for (int a = 0; a < D; ++a) {
+      if (t.position[i][a] - t.radius[i] < -slack || t.position[i][a] + t.radius[i] > box.length + slack)
+        throw InputError(fmt::format("{}: the sphere at {} with radius {} does not fit in the box [0, {}] (walls)",
+                                     where(t, i), fmt_vec(t.position[i]), t.radius[i], box.length));
+    }
+  }
+
+  CellGrid<D> grid(box, 2.0 * max_radius, n);
+  for (int i = 0; i < n; ++i) grid.insert(i, t.position[i]);
+  for (int i = 0; i < n; ++i) {
+    grid.for_each_near(t.position[i], [&](int j) {
+      if (j <= i) return;
+      const double sigma = t.radius[i] + t.radius[j];
+      const double d = box.separation(t.position[i], t.position[j]).norm();
+      if (d < sigma * (1.0 - tolerance::kInputOverlap)) {
+        const std::string other = t.line.empty() ? fmt::format("sphere {}", j) : fmt::format("the sphere of line {}", t.line[j]);
+        throw InputError(fmt::format("{}: this sphere overlaps {} by {:.3g} of their contact distance (spheres must not "
+                                     "overlap)", where(t, i), other, (sigma - d) / sigma));
+      }
+    });
+  }
+
+  // Clusters: one per distinct label, numbered in order of first appearance.
+  std::vector<int> label(n);
+  std::vector<std::vector<int>> members;
+  if (t.cluster.empty()) {
+    for (int i = 0; i < n; ++i) { label[i] = i; members.push_back({i}); }
+  } else {
+    std::map<std::int64_t, int> id;
+    for (int i = 0; i < n; ++i) {
+      auto [it, fresh] = id.emplace(t.cluster[i], static_cast<int>(members.size()));
+      if (fresh) members.emplace_back();
+      label[i] = it->second;
+      members[it->second].push_back(i);
+    }
+  }
+  const std::vector<Vec<D>> offset = unwrapped_offsets(box, t, label, members, grid);
+
+  State<D> s;
+  s.box = box;
+  s.spheres.offset = offset;
+  s.spheres.radius = t.radius;
+  s.spheres.mass = t.mass;
+  s.spheres.cluster.assign(label.begin(), label.end());
+  s.clusters.resize(members.size());
+  for (std::size_t c = 0; c < members.size(); ++c) {
+    Cluster<D>& k = s.clusters[c];
+    const int root = members[c].front();
+    k.members.assign(members[c].begin(), members[c].end());
+    k.anchor = t.position[root];
+    Vec<D> momentum = Vec<D>::Zero();
+    double mass = 0.0;
+    for (int i : members[c]) {
+      momentum += t.mass[i] * t.velocity[i];
+      mass += t.mass[i];
+    }
+    k.velocity = members[c].size() == 1 ? t.velocity[root] : Vec<D>(momentum / mass);
+    for (int i : members[c]) {
+      if ((t.velocity[i] - t.velocity[root]).norm() > tolerance::kGluedVelocity * max_speed) {
+        throw InputError(fmt::format("{}: velocity {} differs from {} of the first sphere of its cluster ({}); "
+                                     "spheres glued into one cluster must move together",
+                                     where(t, i), fmt_vec(t.velocity[i]), fmt_vec(t.velocity[root]), where(t, root)));
+      }
+    }
+  }
+  s.finalize();
+  return s;
+}
+
+template <int D>
+State<D> make_initial_state(const Config& c) {
+  Box<D> box{resolved_box_length(c), c.system.boundary};
+  SphereTable<D> table;
+  if (c.initial.positions == InitialPositions::file) {
+    table = read_state_csv<D>(c.initial.file);
+  } else {
+    table.position = c.initial.positions == InitialPositions::lattice ? lattice_positions<D>(c, box)
+                                                                      : random_positions<D>(c, box);
+    table.velocity = random_velocities<D>(c, c.system.n);
+    table.radius.assign(c.system.n, c.system.radius);
+    table.mass.assign(c.system.n, c.system.mass);
+  }
+  State<D> s = assemble_state(box, table);
+  if (c.initial.zero_momentum) {
+    const Vec<D> mean = s.momentum() / s.total_mass();
+    for (int k = 0; k < static_cast<int>(s.clusters.size()); ++k)
+      if (s.clusters[k].alive()) s.set_velocity(k, s.clusters[k].velocity - mean, 0.0);
+  }
+  return s;
+}
+
+template State<2> make_initial_state<2>(const Config&);
+template State<3> make_initial_state<3>(const Config&);
+template State<2> assemble_state<2>(const Box<2>&, const SphereTable<2>&);
+template State<3> assemble_state<3>(const Box<3>&, const SphereTable<3>&);
+
+}  // namespace ballagg

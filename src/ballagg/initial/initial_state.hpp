@@ -1,0 +1,21 @@
+#pragma once
+// The state at t = 0 from a configuration: spheres placed on a lattice (paper §4.1), at
+// random without overlaps, or read from a file; velocities drawn from the chosen law.
+#include "ballagg/config/config.hpp"
+#include "ballagg/core/state.hpp"
+#include "ballagg/io/state_csv.hpp"
+
+namespace ballagg {
+
+// Throws InputError when the configuration cannot be realised (spheres that do not fit,
+// overlaps or bad clusters in an input file).
+template <int D>
+State<D> make_initial_state(const Config& config);
+
+// Builds a state from explicit spheres (positions are folded into a periodic box; spheres
+// with equal table.cluster values are glued into rigid clusters). Checks that spheres fit
+// in the box, do not overlap, and that glued spheres share a velocity.
+template <int D>
+State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table);
+
+}  // namespace ballagg

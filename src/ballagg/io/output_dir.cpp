@@ -1,0 +1,67 @@
+#include "ballagg/io/output_dir.hpp"
+
+#include <cerrno>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+
+#include "ballagg/config/config.hpp"
+
+namespace fs = std::filesystem;
+
+namespace ballagg {
+
+std::string default_output_dir(const std::string& parent) {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm local{};
+  localtime_r(&now, &local);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y%m%d-%H%M%S", &local);
+  std::string dir = (fs::path(parent) / stamp).string();
+  for (int k = 2; fs::exists(dir); ++k) dir = (fs::path(parent) / fmt::format("{}-{}", stamp, k)).string();
+  return dir;
+}
+
+bool prepare_output_dir(const std::string& dir) {
+  std::error_code ec;
+  const bool existed = fs::exists(dir, ec);
+  if (existed && !fs::is_directory(dir, ec))
+    throw InputError(fmt::format("--out {}: exists and is not a directory", dir));
+  if (!existed && !fs::create_directories(dir, ec))
+    throw InputError(fmt::format("--out {}: cannot create the output directory: {}", dir, ec.message()));
+  const fs::path probe = fs::path(dir) / ".ballagg-write-test";
+  std::FILE* f = std::fopen(probe.c_str(), "wb");
+  if (f == nullptr) {
+    const std::string reason = std::strerror(errno);
+    if (!existed) fs::remove(dir, ec);
+    throw InputError(fmt::format("--out {}: cannot write in the output directory: {}", dir, reason));
+  }
+  std::fclose(f);
+  fs::remove(probe, ec);
+  return !existed;
+}
+
+void write_file_atomically(const std::string& dir, const std::string& name, const std::string& content) {
+  const fs::path target = fs::path(dir) / name;
+  const fs::path temporary = fs::path(dir) / ("." + name + ".tmp");
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out.write(content.data(), static_cast<std::streamsize>(content.size()));
+    out.flush();
+    if (!out) {
+      std::error_code ec;
+      fs::remove(temporary, ec);
+      throw std::runtime_error(fmt::format("{}: cannot write (disk full?)", target.string()));
+    }
+  }
+  std::error_code ec;
+  fs::rename(temporary, target, ec);
+  if (ec) throw std::runtime_error(fmt::format("{}: cannot write: {}", target.string(), ec.message()));
+}
+
+}  // namespace ballagg

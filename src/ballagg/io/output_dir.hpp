@@ -1,0 +1,19 @@
+#pragma once
+// The run directory. Files are written to a temporary name and renamed into place, so a
+// reader (or a crash) never sees a half-written file.
+#include <string>
+
+namespace ballagg {
+
+// A fresh default directory name under `parent`: parent/YYYYmmdd-HHMMSS (with -2, -3, ...
+// appended if that exists).
+std::string default_output_dir(const std::string& parent = "out");
+
+// Creates `dir` (and parents) if needed and checks that files can be created in it.
+// Throws InputError naming the directory and the reason. Returns true if it was created.
+bool prepare_output_dir(const std::string& dir);
+
+// Writes `content` to dir/name atomically. Throws std::runtime_error on failure.
+void write_file_atomically(const std::string& dir, const std::string& name, const std::string& content);
+
+}  // namespace ballagg

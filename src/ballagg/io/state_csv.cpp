@@ -1,0 +1,151 @@
+#include "ballagg/io/state_csv.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string_view>
+
+#include <fmt/format.h>
+
+#include "ballagg/config/config.hpp"
+
+namespace ballagg {
+namespace {
+
+std::string_view trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
+  return s;
+}
+
+std::vector<std::string_view> split(std::string_view line) {
+  std::vector<std::string_view> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t comma = line.find(',', start);
+    out.push_back(trim(line.substr(start, comma - start)));
+    if (comma == std::string_view::npos) return out;
+    start = comma + 1;
+  }
+}
+
+template <int D>
+std::vector<std::string> column_names() {
+  if constexpr (D == 2) return {"x", "y", "vx", "vy", "radius", "mass"};
+  else return {"x", "y", "z", "vx", "vy", "vz", "radius", "mass"};
+}
+
+}  // namespace
+
+template <int D>
+SphereTable<D> parse_state_csv(const std::string& text, const std::string& source) {
+  const std::vector<std::string> required = column_names<D>();
+  const std::string expected = fmt::format("{},cluster (cluster optional)", fmt::join(required, ","));
+  SphereTable<D> table;
+  table.source = source;
+  std::map<std::string, int> column;  // name -> field index
+  std::size_t n_fields = 0;
+  bool header_seen = false;
+  std::istringstream in(text);
+  std::string raw;
+  for (int line_no = 1; std::getline(in, raw); ++line_no) {
+    const std::string_view line = trim(raw);
+    if (line.empty() || line.front() == '#') continue;
+    const std::vector<std::string_view> fields = split(line);
+    if (!header_seen) {
+      header_seen = true;
+      n_fields = fields.size();
+      for (std::size_t k = 0; k < fields.size(); ++k) {
+        const std::string name(fields[k]);
+        const bool known = name == "cluster" || std::find(required.begin(), required.end(), name) != required.end();
+        if (!known) {
+          const bool other_dim = name == "z" || name == "vz";
+          throw InputError(fmt::format("{}:{}: unknown column '{}'{} (expected {})", source, line_no, name,
+                                       other_dim ? " in a 2D run (system.dimension = 2)" : "", expected));
+        }
+        if (!column.emplace(name, static_cast<int>(k)).second)
+          throw InputError(fmt::format("{}:{}: column '{}' appears twice", source, line_no, name));
+      }
+      for (const std::string& name : required)
+        if (!column.count(name))
+          throw InputError(fmt::format("{}:{}: missing column '{}' (expected {})", source, line_no, name, expected));
+      continue;
+    }
+    if (fields.size() != n_fields)
+      throw InputError(fmt::format("{}:{}: {} fields, but the header has {}", source, line_no, fields.size(), n_fields));
+    auto number = [&](const std::string& name) {
+      const std::string_view f = fields[column.at(name)];
+      double v = 0.0;
+      const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
+      if (ec != std::errc() || end != f.data() + f.size() || f.empty())
+        throw InputError(fmt::format("{}:{}: column {}: '{}' is not a number", source, line_no, name, f));
+      if (!std::isfinite(v))
+        throw InputError(fmt::format("{}:{}: column {}: {} is not finite", source, line_no, name, f));
+      return v;
+    };
+    Vec<D> x, v;
+    static constexpr const char* axes[] = {"x", "y", "z"};
+    for (int a = 0; a < D; ++a) {
+      x[a] = number(axes[a]);
+      v[a] = number(std::string("v") + axes[a]);
+    }
+    const double radius = number("radius"), mass = number("mass");
+    if (radius <= 0.0) throw InputError(fmt::format("{}:{}: radius {} must be > 0", source, line_no, radius));
+    if (mass <= 0.0) throw InputError(fmt::format("{}:{}: mass {} must be > 0", source, line_no, mass));
+    if (column.count("cluster")) {
+      const std::string_view f = fields[column.at("cluster")];
+      std::int64_t id = 0;
+      const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), id);
+      if (ec != std::errc() || end != f.data() + f.size() || f.empty())
+        throw InputError(fmt::format("{}:{}: column cluster: '{}' is not an integer", source, line_no, f));
+      table.cluster.push_back(id);
+    }
+    table.position.push_back(x);
+    table.velocity.push_back(v);
+    table.radius.push_back(radius);
+    table.mass.push_back(mass);
+    table.line.push_back(line_no);
+  }
+  if (!header_seen) throw InputError(fmt::format("{}: empty file (expected a header line {})", source, expected));
+  if (table.radius.empty()) throw InputError(fmt::format("{}: no spheres after the header", source));
+  return table;
+}
+
+template <int D>
+SphereTable<D> read_state_csv(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(fmt::format("{}: cannot read the state file", path));
+  std::stringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw InputError(fmt::format("{}: cannot read the state file", path));
+  return parse_state_csv<D>(text.str(), path);
+}
+
+template <int D>
+std::string state_csv_text(const State<D>& s) {
+  std::vector<int> label(s.clusters.size(), -1);
+  int next_label = 0;
+  fmt::memory_buffer out;
+  fmt::format_to(std::back_inserter(out), "{},cluster\n", fmt::join(column_names<D>(), ","));
+  for (int i = 0; i < s.n_spheres(); ++i) {
+    const Vec<D> x = s.position(i, s.time);
+    const Vec<D>& v = s.velocity(i);
+    for (int a = 0; a < D; ++a) fmt::format_to(std::back_inserter(out), "{},", x[a]);
+    for (int a = 0; a < D; ++a) fmt::format_to(std::back_inserter(out), "{},", v[a]);
+    int& l = label[s.spheres.cluster[i]];
+    if (l < 0) l = next_label++;
+    fmt::format_to(std::back_inserter(out), "{},{},{}\n", s.spheres.radius[i], s.spheres.mass[i], l);
+  }
+  return fmt::to_string(out);
+}
+
+template SphereTable<2> read_state_csv<2>(const std::string&);
+template SphereTable<3> read_state_csv<3>(const std::string&);
+template SphereTable<2> parse_state_csv<2>(const std::string&, const std::string&);
+template SphereTable<3> parse_state_csv<3>(const std::string&, const std::string&);
+template std::string state_csv_text<2>(const State<2>&);
+template std::string state_csv_text<3>(const State<3>&);
+
+}  // namespace ballagg

@@ -1,0 +1,36 @@
+#pragma once
+// The state file format, read by `initial.file` and written as final.csv:
+//   x,y,vx,vy,radius,mass[,cluster]            (2D)
+//   x,y,z,vx,vy,vz,radius,mass[,cluster]       (3D)
+// Columns may come in any order; lines starting with '#' and blank lines are skipped.
+// Spheres with the same `cluster` value form one rigid cluster.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "ballagg/core/state.hpp"
+
+namespace ballagg {
+
+template <int D>
+struct SphereTable {
+  std::vector<Vec<D>> position, velocity;
+  std::vector<double> radius, mass;
+  std::vector<std::int64_t> cluster;  // empty when the file has no cluster column
+  std::vector<int> line;              // file line of each sphere, for error messages
+  std::string source;                 // file name
+};
+
+// Throws InputError naming the file line for any malformed content.
+template <int D>
+SphereTable<D> read_state_csv(const std::string& path);
+template <int D>
+SphereTable<D> parse_state_csv(const std::string& text, const std::string& source);
+
+// The state at time state.time in the same format, positions folded into the box, cluster
+// ids numbered 0, 1, ... in order of each cluster's first sphere. Numbers are written in
+// the shortest form that reads back to the same double, so files round-trip exactly.
+template <int D>
+std::string state_csv_text(const State<D>& state);
+
+}  // namespace ballagg

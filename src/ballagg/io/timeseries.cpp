@@ -1,0 +1,61 @@
+#include "ballagg/io/timeseries.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace ballagg {
+
+template <int D>
+void TimeseriesRecorder<D>::on_start(const State<D>& s) {
+  csv_ = "time,clusters,largest_cluster,kinetic_energy,";
+  static constexpr const char* momentum_columns[] = {"px,", "py,", "pz,"};
+  for (int a = 0; a < D; ++a) csv_ += momentum_columns[a];
+  csv_ += "events,collisions\n";
+  next_sample_ = s.time + interval_;
+  row(s, s.time);
+}
+
+template <int D>
+void TimeseriesRecorder<D>::schedule_drop(int clusters) {
+  next_drop_ = clusters - std::max(1, static_cast<int>(kRowDrop * clusters));
+}
+
+template <int D>
+void TimeseriesRecorder<D>::before_event(const State<D>& s, double t) {
+  // Rows at sample times before this event describe the state as it still is.
+  while (interval_ > 0.0 && next_sample_ < t) {
+    row(s, next_sample_);
+    next_sample_ += interval_;
+  }
+}
+
+template <int D>
+void TimeseriesRecorder<D>::after_event(const State<D>& s, const EventRecord&, const EngineCounters& c) {
+  events_ = c.events;
+  collisions_ = c.collisions;
+  if (s.n_clusters() <= next_drop_) row(s, s.time);
+}
+
+template <int D>
+void TimeseriesRecorder<D>::on_finish(const State<D>& s, const RunResult& r) {
+  events_ = r.counters.events;
+  collisions_ = r.counters.collisions;
+  if (events_ != last_row_events_ || s.time != last_row_time_) row(s, s.time);
+}
+
+template <int D>
+void TimeseriesRecorder<D>::row(const State<D>& s, double t) {
+  const Vec<D> p = s.momentum();
+  fmt::format_to(std::back_inserter(csv_), "{},{},{},{},", t, s.n_clusters(), s.largest_cluster(), s.kinetic_energy());
+  for (int a = 0; a < D; ++a) fmt::format_to(std::back_inserter(csv_), "{},", p[a]);
+  fmt::format_to(std::back_inserter(csv_), "{},{}\n", events_, collisions_);
+  last_row_time_ = t;
+  last_row_events_ = events_;
+  schedule_drop(s.n_clusters());
+}
+
+template class TimeseriesRecorder<2>;
+template class TimeseriesRecorder<3>;
+
+}  // namespace ballagg

@@ -1,0 +1,40 @@
+#pragma once
+// timeseries.csv: one row at t = 0, a row each time the number of clusters has dropped by
+// kRowDrop (0.5 %, at least one cluster) since the previous row, a row every
+// `interval` of simulated time if interval > 0, and one for the final state. That is
+// about 200 rows per e-fold of the cluster count: enough to plot N(t) on log axes, and
+// bounded (about 2800 rows for a million spheres).
+#include <string>
+
+#include "ballagg/engines/engine.hpp"
+
+namespace ballagg {
+
+template <int D>
+class TimeseriesRecorder final : public RunObserver<D> {
+ public:
+  static constexpr double kRowDrop = 0.005;
+
+  explicit TimeseriesRecorder(double interval) : interval_(interval) {}
+
+  void on_start(const State<D>& s) override;
+  void before_event(const State<D>& s, double t) override;
+  void after_event(const State<D>& s, const EventRecord& e, const EngineCounters& c) override;
+  void on_finish(const State<D>& s, const RunResult& r) override;
+
+  const std::string& csv() const { return csv_; }
+
+ private:
+  void row(const State<D>& s, double t);
+  void schedule_drop(int clusters);
+
+  double interval_;
+  double next_sample_ = 0.0;
+  int next_drop_ = 0;
+  double last_row_time_ = -1.0;
+  std::int64_t last_row_events_ = -1;
+  std::int64_t events_ = 0, collisions_ = 0;
+  std::string csv_;
+};
+
+}  // namespace ballagg

@@ -1,0 +1,60 @@
+#include "ballagg/run/progress.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include <fmt/format.h>
+
+namespace ballagg {
+
+template <int D>
+double ProgressReporter<D>::seconds() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+template <int D>
+void ProgressReporter<D>::on_start(const State<D>& s) {
+  start_ = std::chrono::steady_clock::now();
+  initial_clusters_ = s.n_clusters();
+}
+
+template <int D>
+void ProgressReporter<D>::after_event(const State<D>& s, const EventRecord&, const EngineCounters& c) {
+  if (c.events % 1024 != 0) return;
+  const double now = seconds();
+  if (now - last_report_ < (terminal_ ? kTerminalEvery : kPlainEvery)) return;
+  last_report_ = now;
+  report(s, c.events, false);
+}
+
+template <int D>
+void ProgressReporter<D>::on_finish(const State<D>& s, const RunResult& r) {
+  report(s, r.counters.events, true);
+}
+
+template <int D>
+void ProgressReporter<D>::report(const State<D>& s, std::int64_t events, bool final) {
+  // Fraction done: of the clusters to remove, or of the simulated time if that is closer.
+  const double to_remove = std::max(1, initial_clusters_ - static_cast<int>(stop_.clusters));
+  double done = std::clamp((initial_clusters_ - s.n_clusters()) / to_remove, 0.0, 1.0);
+  if (std::isfinite(stop_.time)) done = std::max(done, std::min(1.0, s.time / stop_.time));
+  const double elapsed = seconds();
+  const double rate = elapsed > 0.0 ? events / elapsed : 0.0;
+  const std::string status = fmt::format("clusters {} / {}  t = {:.6g}  {:.3g} M events/s  {:.1f} s", s.n_clusters(),
+                                         s.n_spheres(), s.time, rate * 1e-6, elapsed);
+  if (terminal_) {
+    constexpr int kWidth = 30;
+    const int filled = static_cast<int>(done * kWidth);
+    fmt::print(out_, "\r[{}{}] {:3.0f}%  {}\x1b[K{}", std::string(filled, '#'), std::string(kWidth - filled, '.'),
+               100.0 * done, status, final ? "\n" : "");
+  } else {
+    fmt::print(out_, "{:3.0f}%  {}\n", 100.0 * done, status);
+  }
+  std::fflush(out_);
+}
+
+template class ProgressReporter<2>;
+template class ProgressReporter<3>;
+
+}  // namespace ballagg

@@ -1,0 +1,36 @@
+#pragma once
+// Progress on stderr: a bar redrawn in place on a terminal, a plain line every
+// kPlainEvery seconds otherwise (log files), nothing with --quiet.
+#include <chrono>
+#include <cstdio>
+
+#include "ballagg/engines/engine.hpp"
+
+namespace ballagg {
+
+template <int D>
+class ProgressReporter final : public RunObserver<D> {
+ public:
+  static constexpr double kTerminalEvery = 0.2;  // seconds between redraws
+  static constexpr double kPlainEvery = 10.0;    // seconds between plain lines
+
+  ProgressReporter(std::FILE* out, bool terminal, const StopCriteria& stop)
+      : out_(out), terminal_(terminal), stop_(stop) {}
+
+  void on_start(const State<D>& s) override;
+  void after_event(const State<D>& s, const EventRecord&, const EngineCounters& c) override;
+  void on_finish(const State<D>& s, const RunResult& r) override;
+
+ private:
+  void report(const State<D>& s, std::int64_t events, bool final);
+  double seconds() const;
+
+  std::FILE* out_;
+  bool terminal_;
+  StopCriteria stop_;
+  int initial_clusters_ = 0;
+  double last_report_ = 0.0;
+  std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace ballagg

@@ -1,0 +1,166 @@
+#include "ballagg/run/simulation.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "ballagg/analysis/overlap.hpp"
+#include "ballagg/engines/event_driven/event_driven_engine.hpp"
+#include "ballagg/initial/initial_state.hpp"
+#include "ballagg/io/output_dir.hpp"
+#include "ballagg/io/state_csv.hpp"
+#include "ballagg/io/timeseries.hpp"
+#include "ballagg/io/xyz.hpp"
+#include "ballagg/run/progress.hpp"
+#include "ballagg/version.hpp"
+
+namespace ballagg {
+
+template <int D>
+Config resolve_defaults(Config c, const State<D>& s) {
+  const double mean_radius = s.mean_radius();
+  double mean_square_speed = 0.0;
+  for (int i = 0; i < s.n_spheres(); ++i) mean_square_speed += s.velocity(i).squaredNorm();
+  mean_square_speed /= s.n_spheres();
+  if (!c.engine.skin) c.engine.skin = mean_radius;
+  if (!c.collision.tc_time && c.collision.outcome == CollisionOutcome::bounce) {
+    const double rms = std::sqrt(mean_square_speed);
+    c.collision.tc_time = rms > 0.0 ? kDefaultTcFraction * 2.0 * mean_radius / rms : 0.0;
+  }
+  return c;
+}
+
+template <int D>
+std::unique_ptr<Engine<D>> make_engine(const Config& c) {
+  const CollisionSettings law{c.collision.outcome, c.collision.restitution, c.collision.tc_time.value_or(0.0)};
+  if (c.engine.kind == EngineKind::ed_naive) return make_naive_event_driven_engine<D>(law);
+  return make_event_driven_engine<D>({law, c.engine.skin.value_or(0.0)});
+}
+
+StopCriteria stop_criteria(const Config& c) {
+  StopCriteria s;
+  s.clusters = static_cast<int>(std::min<std::int64_t>(c.stop.clusters, std::numeric_limits<int>::max()));
+  s.time = c.stop.time;
+  s.wall_seconds = c.stop.wall_seconds;
+  return s;
+}
+
+namespace {
+
+template <int D>
+class ObserverList final : public RunObserver<D> {
+ public:
+  void add(RunObserver<D>* o) { list_.push_back(o); }
+  void on_start(const State<D>& s) override { for (auto* o : list_) o->on_start(s); }
+  void before_event(const State<D>& s, double t) override { for (auto* o : list_) o->before_event(s, t); }
+  void after_event(const State<D>& s, const EventRecord& e, const EngineCounters& c) override {
+    for (auto* o : list_) o->after_event(s, e, c);
+  }
+  void on_finish(const State<D>& s, const RunResult& r) override { for (auto* o : list_) o->on_finish(s, r); }
+
+ private:
+  std::vector<RunObserver<D>*> list_;
+};
+
+template <int D>
+nlohmann::json vector_json(const Vec<D>& v) {
+  nlohmann::json a = nlohmann::json::array();
+  for (int k = 0; k < D; ++k) a.push_back(v[k]);
+  return a;
+}
+
+// JSON has no infinity: unlimited stop criteria appear as null.
+nlohmann::ordered_json config_json(const Config& c) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::parse(to_json_text(c));
+  if (std::isinf(c.stop.time)) j["stop"]["time"] = nullptr;
+  if (std::isinf(c.stop.wall_seconds)) j["stop"]["wall_seconds"] = nullptr;
+  return j;
+}
+
+template <int D>
+struct Totals {
+  Vec<D> momentum;
+  double kinetic_energy;
+  std::int64_t pinnings;
+  explicit Totals(const State<D>& s) : momentum(s.momentum()), kinetic_energy(s.kinetic_energy()), pinnings(s.pinnings()) {}
+};
+
+template <int D>
+std::string summary_text(const Config& c, std::string_view engine, const Totals<D>& initial, const State<D>& s,
+                         const RunResult& r) {
+  nlohmann::ordered_json j;
+  j["engine"] = engine;
+  j["dimension"] = D;
+  j["n_particles"] = s.n_spheres();
+  j["box_length"] = s.box.length;
+  j["boundary"] = to_string(s.box.boundary);
+  j["n_clusters"] = s.n_clusters();
+  j["largest_cluster"] = s.largest_cluster();
+  j["time"] = s.time;
+  j["stop_reason"] = to_string(r.reason);
+  j["events"] = r.counters.events;
+  j["collisions"] = r.counters.collisions;
+  j["merges"] = r.counters.merges;
+  j["bounces"] = r.counters.bounces;
+  j["wall_bounces"] = r.counters.wall_bounces;
+  j["list_rebuilds"] = r.counters.list_rebuilds;
+  j["wall_pinnings"] = s.pinnings() - initial.pinnings;
+  j["wall_seconds"] = r.wall_seconds;
+  j["events_per_second"] = r.wall_seconds > 0 ? r.counters.events / r.wall_seconds : 0.0;
+  j["mass_total"] = s.total_mass();
+  j["momentum_initial"] = vector_json<D>(initial.momentum);
+  j["momentum_final"] = vector_json<D>(s.momentum());
+  j["kinetic_energy_initial"] = initial.kinetic_energy;
+  j["kinetic_energy_final"] = s.kinetic_energy();
+  const std::optional<double> overlap = max_relative_overlap(s);
+  j["max_overlap"] = overlap ? nlohmann::ordered_json(*overlap) : nlohmann::ordered_json(nullptr);
+  j["seed"] = c.initial.seed;
+  j["version"] = kVersion;
+  j["config"] = config_json(c);
+  return j.dump(2) + "\n";
+}
+
+template <int D>
+std::string run_in_dimension(const Config& given, const RunOptions& options) {
+  State<D> state = make_initial_state<D>(given);  // all input checks happen before any output
+  const Config config = resolve_defaults(given, state);
+  const StopCriteria stop = stop_criteria(config);
+  std::unique_ptr<Engine<D>> engine = make_engine<D>(config);
+
+  const std::string dir = options.out_dir.empty() ? default_output_dir() : options.out_dir;
+  prepare_output_dir(dir);
+
+  const Totals<D> initial(state);
+  TimeseriesRecorder<D> timeseries(config.output.timeseries_interval);
+  ProgressReporter<D> progress(stderr, options.progress_on_terminal && isatty(STDERR_FILENO), stop);
+  ObserverList<D> observers;
+  observers.add(&timeseries);
+  if (!options.quiet) observers.add(&progress);
+  const RunResult result = engine->run(state, stop, observers);
+
+  write_file_atomically(dir, "final.csv", state_csv_text(state));
+  if (config.output.xyz) write_file_atomically(dir, "final.xyz", xyz_frame_text(state));
+  write_file_atomically(dir, "timeseries.csv", timeseries.csv());
+  write_file_atomically(dir, "config.toml", to_toml_text(config));
+  write_file_atomically(dir, "summary.json", summary_text(config, engine->name(), initial, state, result));
+  return dir;
+}
+
+}  // namespace
+
+std::string run_simulation(const Config& config, const RunOptions& options) {
+  if (config.system.dimension == 2) return run_in_dimension<2>(config, options);
+  return run_in_dimension<3>(config, options);
+}
+
+template Config resolve_defaults<2>(Config, const State<2>&);
+template Config resolve_defaults<3>(Config, const State<3>&);
+template std::unique_ptr<Engine<2>> make_engine<2>(const Config&);
+template std::unique_ptr<Engine<3>> make_engine<3>(const Config&);
+
+}  // namespace ballagg

@@ -1,0 +1,35 @@
+#pragma once
+// From a configuration to a finished run: initial state, engine, observers, output files.
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "ballagg/config/config.hpp"
+#include "ballagg/engines/engine.hpp"
+
+namespace ballagg {
+
+// Fills the keys whose defaults depend on the initial state (engine.skin, and
+// collision.tc_time for bounces), so the resolved config reproduces the run exactly.
+template <int D>
+Config resolve_defaults(Config c, const State<D>& initial);
+
+template <int D>
+std::unique_ptr<Engine<D>> make_engine(const Config& resolved);
+
+StopCriteria stop_criteria(const Config& c);
+
+struct RunOptions {
+  std::string out_dir;         // empty: out/<timestamp>
+  bool quiet = false;
+  bool progress_on_terminal = true;  // redraw a bar if stderr is a terminal
+};
+
+// The `ballagg run` command. Validates everything (throws InputError) before creating
+// the output directory, then runs and writes summary.json, timeseries.csv, final.csv and
+// final.xyz. Returns the output directory.
+std::string run_simulation(const Config& config, const RunOptions& options);
+
+}  // namespace ballagg

@@ -1,0 +1,107 @@
+#pragma once
+// A uniform grid of cells over the box, each holding a doubly linked list of item ids, so
+// that inserting, moving and removing an item costs O(1) and a query visits only the 3^D
+// cells around a point. Cells are at least `min_cell_size` wide, so every item within
+// that distance of the query point is visited.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "ballagg/core/vec.hpp"
+#include "ballagg/spatial/box.hpp"
+
+namespace ballagg {
+
+template <int D>
+class CellGrid {
+ public:
+  // The number of cells is also capped near `max_cells_per_item * n_items`, so a dilute
+  // system in a huge box does not allocate a huge, empty grid (larger cells stay correct).
+  CellGrid(const Box<D>& box, double min_cell_size, int n_items, double max_cells_per_item = 2.0)
+      : box_(box) {
+    const double by_size = std::floor(box.length / min_cell_size);
+    const double by_count = std::ceil(std::pow(max_cells_per_item * std::max(n_items, 1), 1.0 / D));
+    per_side_ = static_cast<int>(std::clamp(std::min(by_size, by_count), 1.0, 1e6));
+    cell_size_ = box.length / per_side_;
+    std::int64_t cells = 1;
+    for (int a = 0; a < D; ++a) cells *= per_side_;
+    head_.assign(cells, -1);
+    next_.assign(n_items, -1);
+    prev_.assign(n_items, -1);
+    cell_of_.assign(n_items, -1);
+  }
+
+  int per_side() const { return per_side_; }
+  double cell_size() const { return cell_size_; }
+
+  // p must lie in the box (folded into it when periodic); points on the faces are clamped.
+  void insert(int id, const Vec<D>& p) { link(id, cell_index(p)); }
+  void move(int id, const Vec<D>& p) {
+    const std::int32_t c = cell_index(p);
+    if (c == cell_of_[id]) return;
+    unlink(id);
+    link(id, c);
+  }
+
+  // Calls f(id) for every item in the cells adjacent to p (each cell visited once).
+  template <class F>
+  void for_each_near(const Vec<D>& p, F&& f) const {
+    std::array<std::array<int, 3>, D> coords;
+    std::array<int, D> counts;
+    for (int a = 0; a < D; ++a) counts[a] = neighbour_coords(coordinate(p[a]), coords[a]);
+    std::array<int, D> k{};
+    while (true) {
+      std::int64_t cell = 0;
+      for (int a = D - 1; a >= 0; --a) cell = cell * per_side_ + coords[a][k[a]];
+      for (std::int32_t id = head_[cell]; id >= 0; id = next_[id]) f(id);
+      int a = 0;
+      while (a < D && ++k[a] == counts[a]) k[a++] = 0;
+      if (a == D) break;
+    }
+  }
+
+ private:
+  int coordinate(double x) const {
+    return std::clamp(static_cast<int>(std::floor(x / cell_size_)), 0, per_side_ - 1);
+  }
+  std::int32_t cell_index(const Vec<D>& p) const {
+    std::int64_t cell = 0;
+    for (int a = D - 1; a >= 0; --a) cell = cell * per_side_ + coordinate(p[a]);
+    return static_cast<std::int32_t>(cell);
+  }
+  // The distinct cell coordinates next to c along one axis (wrapped if periodic).
+  int neighbour_coords(int c, std::array<int, 3>& out) const {
+    int n = 0;
+    for (int d = -1; d <= 1; ++d) {
+      int x = c + d;
+      if (box_.periodic()) {
+        x = (x + per_side_) % per_side_;
+      } else if (x < 0 || x >= per_side_) {
+        continue;
+      }
+      if (std::find(out.begin(), out.begin() + n, x) == out.begin() + n) out[n++] = x;
+    }
+    return n;
+  }
+  void link(int id, std::int32_t c) {
+    cell_of_[id] = c;
+    prev_[id] = -1;
+    next_[id] = head_[c];
+    if (head_[c] >= 0) prev_[head_[c]] = id;
+    head_[c] = id;
+  }
+  void unlink(int id) {
+    const std::int32_t c = cell_of_[id];
+    if (prev_[id] >= 0) next_[prev_[id]] = next_[id]; else head_[c] = next_[id];
+    if (next_[id] >= 0) prev_[next_[id]] = prev_[id];
+  }
+
+  Box<D> box_;
+  int per_side_ = 1;
+  double cell_size_ = 1.0;
+  std::vector<std::int32_t> head_, next_, prev_, cell_of_;
+};
+
+}  // namespace ballagg

@@ -1,0 +1,103 @@
+#pragma once
+// Verlet-style lists of *foreign* neighbours: for each sphere, the spheres of other clusters
+// that were within sigma + skin when either of the two clusters last rebuilt its lists.
+// Spheres of the same cluster never collide (clusters are rigid), so they are never listed.
+//
+// Each cluster also keeps its "exposed" spheres: those with at least one foreign neighbour.
+// When a cluster's velocity changes, only its exposed spheres need new collision
+// predictions; the interior of a big aggregate costs nothing.
+#include <cstdint>
+#include <vector>
+
+namespace ballagg {
+
+class NeighborLists {
+ public:
+  void reset(int n_spheres, int n_clusters) {
+    partners_.assign(n_spheres, {});
+    slot_.assign(n_spheres, -1);
+    exposed_.assign(n_clusters, {});
+  }
+
+  const std::vector<std::int32_t>& partners(int sphere) const { return partners_[sphere]; }
+  const std::vector<std::int32_t>& exposed(int cluster) const { return exposed_[cluster]; }
+
+  // cluster_of[k] is the current cluster id of sphere k.
+  void add_pair(int i, int j, const std::int32_t* cluster_of) {
+    add_partner(i, j, cluster_of);
+    add_partner(j, i, cluster_of);
+  }
+
+  void remove_all_pairs(int i, const std::int32_t* cluster_of) {
+    for (std::int32_t j : partners_[i]) {
+      erase_partner(j, i);
+      if (partners_[j].empty()) unexpose(j, cluster_of[j]);
+    }
+    partners_[i].clear();
+    if (slot_[i] >= 0) unexpose(i, cluster_of[i]);
+  }
+
+  // After the spheres of cluster `gone` were relabelled as members of `keep`: drops the
+  // pairs that became internal and hands gone's exposed spheres over to keep.
+  void absorb(int keep, int gone, const std::int32_t* cluster_of) {
+    std::vector<std::int32_t> handed = std::move(exposed_[gone]);
+    exposed_[gone].clear();
+    for (std::int32_t s : handed) {
+      std::vector<std::int32_t>& ps = partners_[s];
+      for (std::size_t k = 0; k < ps.size();) {
+        const std::int32_t p = ps[k];
+        if (cluster_of[p] != keep) { ++k; continue; }
+        erase_partner(p, s);
+        if (partners_[p].empty()) unexpose(p, keep);
+        ps[k] = ps.back();
+        ps.pop_back();
+      }
+      if (ps.empty()) {
+        slot_[s] = -1;
+      } else {
+        slot_[s] = static_cast<std::int32_t>(exposed_[keep].size());
+        exposed_[keep].push_back(s);
+      }
+    }
+  }
+
+  std::size_t pair_count() const {
+    std::size_t n = 0;
+    for (const auto& p : partners_) n += p.size();
+    return n / 2;
+  }
+
+ private:
+  void add_partner(int i, int j, const std::int32_t* cluster_of) {
+    if (partners_[i].empty()) {
+      const int c = cluster_of[i];
+      slot_[i] = static_cast<std::int32_t>(exposed_[c].size());
+      exposed_[c].push_back(i);
+    }
+    partners_[i].push_back(j);
+  }
+  void erase_partner(int i, int j) {
+    std::vector<std::int32_t>& ps = partners_[i];
+    for (std::size_t k = 0; k < ps.size(); ++k) {
+      if (ps[k] == j) {
+        ps[k] = ps.back();
+        ps.pop_back();
+        return;
+      }
+    }
+  }
+  void unexpose(int i, int cluster) {
+    std::vector<std::int32_t>& ex = exposed_[cluster];
+    const std::int32_t last = ex.back();
+    ex[slot_[i]] = last;
+    slot_[last] = slot_[i];
+    ex.pop_back();
+    slot_[i] = -1;
+  }
+
+  std::vector<std::vector<std::int32_t>> partners_;
+  std::vector<std::vector<std::int32_t>> exposed_;
+  std::vector<std::int32_t> slot_;  // position of a sphere in its cluster's exposed list, or -1
+};
+
+}  // namespace ballagg
