@@ -3,6 +3,7 @@
 // every event, and exhaustive checks of the physics invariants.
 #include <cmath>
 #include <functional>
+#include <type_traits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -68,7 +69,7 @@ class Recorder final : public RunObserver<D> {
 
 template <int D>
 RunResult run_engine(State<D>& s, const std::string& engine, const CollisionSettings& law = {},
-                     const StopCriteria& stop = {}, RunObserver<D>* observer = nullptr) {
+                     const StopCriteria& stop = {}, std::type_identity_t<RunObserver<D>>* observer = nullptr) {
   RunObserver<D> none;
   auto e = engine == "ed" ? make_event_driven_engine<D>({law, 0.0}) : make_naive_event_driven_engine<D>(law);
   return e->run(s, stop, observer ? *observer : none);

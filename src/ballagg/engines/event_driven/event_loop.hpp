@@ -51,7 +51,7 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
     }
     const std::optional<Event> next = core.next_event();
     if (!next) {
-      result.reason = StopReason::no_more_events;
+      result.reason = collisions_impossible(s) ? StopReason::no_collision_possible : StopReason::no_more_events;
       if (stop.time < kNever) { observer.before_event(s, stop.time); s.time = stop.time; }
       break;
     }

@@ -1,0 +1,292 @@
+// The event-driven engines against analytic answers and conservation laws. Every test body
+// runs on both the fast engine (`ed`) and the paper's O(N^2) reference (`ed-naive`).
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "ballagg/io/state_csv.hpp"
+#include "support.hpp"
+
+namespace ballagg {
+namespace {
+using testing::Ball;
+using testing::make_state;
+using testing::Recorder;
+using testing::run_engine;
+using testing::vec;
+using testing::worst_overlap;
+
+class EventDriven : public ::testing::TestWithParam<std::string> {
+ protected:
+  std::string engine() const { return GetParam(); }
+};
+
+INSTANTIATE_TEST_SUITE_P(Engines, EventDriven, ::testing::Values("ed", "ed-naive"),
+                         [](const auto& info) { return info.param == "ed" ? std::string("ed") : std::string("naive"); });
+
+// Runs to time t however many clusters remain (a single cluster would otherwise stop the
+// run at once: the default stop.clusters is 1).
+StopCriteria until(double t) {
+  StopCriteria s;
+  s.clusters = 0;
+  s.time = t;
+  return s;
+}
+
+TEST_P(EventDriven, SingleSphereReflectsAtAnalyticWallTimes) {
+  State<2> s = make_state<2>(10, Boundary::walls, {{vec<2>(2, 5), vec<2>(1, 0)}});
+  Recorder<2> rec;
+  const RunResult r = run_engine(s, engine(), {}, until(20), &rec);
+  const auto walls = rec.of_kind(EventKind::wall);
+  ASSERT_EQ(walls.size(), 2u);
+  EXPECT_DOUBLE_EQ(walls[0].time, 7.5);   // reaches x = 9.5
+  EXPECT_DOUBLE_EQ(walls[1].time, 16.5);  // back to x = 0.5
+  EXPECT_EQ(r.reason, StopReason::time);
+  EXPECT_DOUBLE_EQ(s.time, 20.0);
+  EXPECT_NEAR(s.position(0, s.time)[0], 4.0, 1e-12);
+  EXPECT_EQ(s.velocity(0), vec<2>(1, 0));
+}
+
+TEST_P(EventDriven, GluedClusterReflectsWhenItsOuterSphereTouchesTheWall) {
+  // A 2-sphere cluster moving up: the upper sphere (y = 7, radius 0.5) reaches y = 9.5 at
+  // t = 2.5 / 0.5 = 5 and the whole cluster turns back.
+  State<2> s = make_state<2>(10, Boundary::walls,
+                             {{vec<2>(4, 6), vec<2>(0, 0.5), 0.5, 1.0, 3}, {vec<2>(4, 7), vec<2>(0, 0.5), 0.5, 1.0, 3}});
+  Recorder<2> rec;
+  run_engine(s, engine(), {}, until(6), &rec);
+  const auto walls = rec.of_kind(EventKind::wall);
+  ASSERT_EQ(walls.size(), 1u);
+  EXPECT_DOUBLE_EQ(walls[0].time, 5.0);
+  EXPECT_EQ(walls[0].axis, 1);
+  EXPECT_EQ(s.velocity(0), vec<2>(0, -0.5));
+  EXPECT_EQ(s.velocity(1), vec<2>(0, -0.5));
+  EXPECT_NEAR(s.position(1, s.time)[1], 9.0, 1e-12);
+}
+
+TEST_P(EventDriven, HeadOnPairSticksAtAnalyticTimeWithTheMeanVelocity) {
+  State<3> s = make_state<3>(20, Boundary::walls,
+                             {{vec<3>(5, 10, 10), vec<3>(1, 0.2, 0), 0.5, 1.0}, {vec<3>(15, 10, 10), vec<3>(-1, 0.2, 0), 0.5, 3.0}});
+  Recorder<3> rec;
+  const RunResult r = run_engine(s, engine(), {}, {}, &rec);
+  ASSERT_EQ(r.reason, StopReason::clusters);
+  const auto hits = rec.of_kind(EventKind::collision);
+  ASSERT_EQ(hits.size(), 1u);
+  EXPECT_DOUBLE_EQ(hits[0].time, 4.5);
+  EXPECT_NEAR((s.velocity(0) - vec<3>(-0.5, 0.2, 0)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR(worst_overlap(s), 0.0, 1e-14);  // touching, not overlapping
+}
+
+TEST_P(EventDriven, BounceReversesTheApproachTimesRestitution) {
+  State<2> s = make_state<2>(20, Boundary::walls,
+                             {{vec<2>(5, 10), vec<2>(1, 0)}, {vec<2>(15, 10), vec<2>(-1, 0)}});
+  run_engine(s, engine(), {CollisionOutcome::bounce, 0.5, 0.0}, until(5), nullptr);
+  EXPECT_NEAR((s.velocity(0) - vec<2>(-0.5, 0)).norm(), 0.0, 1e-15);
+  EXPECT_NEAR((s.velocity(1) - vec<2>(0.5, 0)).norm(), 0.0, 1e-15);
+  EXPECT_EQ(s.n_clusters(), 2);
+}
+
+TEST_P(EventDriven, SymmetricThreeBodyCollisionMergesAllAtOnce) {
+  // A and C hit the resting B from both sides at the same instant t = 1: the contact
+  // cascade glues all three, conserving momentum, whatever order the two contacts take.
+  State<2> s = make_state<2>(20, Boundary::walls,
+                             {{vec<2>(8, 10), vec<2>(1, 0.5)}, {vec<2>(10, 10), vec<2>(0, 0.5)}, {vec<2>(12, 10), vec<2>(-1, 0.5)}});
+  Recorder<2> rec;
+  const RunResult r = run_engine(s, engine(), {}, {}, &rec);
+  ASSERT_EQ(r.reason, StopReason::clusters);
+  ASSERT_EQ(rec.of_kind(EventKind::collision).size(), 1u);
+  EXPECT_EQ(rec.of_kind(EventKind::collision)[0].merges, 2);
+  EXPECT_DOUBLE_EQ(rec.of_kind(EventKind::collision)[0].time, 1.0);
+  EXPECT_NEAR((s.velocity(0) - vec<2>(0, 0.5)).norm(), 0.0, 1e-15);
+}
+
+TEST_P(EventDriven, ClusterStraddlingAPeriodicFaceCollidesAcrossIt) {
+  // A glued pair sits across x = 0 (spheres at x = 9.5 and x = 0.5); a sphere at x = 5
+  // moving left meets the sphere at x = 0.5 when the gap of 3.5 has closed: t = 3.5.
+  State<2> s = make_state<2>(10, Boundary::periodic,
+                             {{vec<2>(9.5, 5), vec<2>(0, 0), 0.5, 1.0, 1}, {vec<2>(0.5, 5), vec<2>(0, 0), 0.5, 1.0, 1},
+                              {vec<2>(5, 5), vec<2>(-1, 0)}});
+  ASSERT_EQ(s.n_clusters(), 2);
+  Recorder<2> rec;
+  run_engine(s, engine(), {}, {}, &rec);
+  ASSERT_EQ(rec.of_kind(EventKind::collision).size(), 1u);
+  const EventRecord hit = rec.of_kind(EventKind::collision)[0];
+  EXPECT_DOUBLE_EQ(hit.time, 3.5);
+  EXPECT_EQ(hit.sphere_i, 1);
+  EXPECT_EQ(hit.sphere_j, 2);
+  EXPECT_NEAR(worst_overlap(s), 0.0, 1e-14);
+}
+
+TEST_P(EventDriven, ClusterNearlyAsWideAsTheBoxRattlesWithoutStalling) {
+  // A rod 1e-6 narrower than the box bounces between the walls every 1e-6 / 0.5 time
+  // units: many events, but each is exact and the run reaches its stop time.
+  std::vector<Ball<2>> rod;
+  for (int k = 0; k < 4; ++k) rod.push_back({vec<2>(0.5 + k, 2), vec<2>(0.5, 0.25), 0.5, 1.0, 1});
+  State<2> s = make_state<2>(4 + 1e-6, Boundary::walls, rod);
+  Recorder<2> rec;
+  const RunResult r = run_engine(s, engine(), {}, until(0.01), &rec);
+  EXPECT_EQ(r.reason, StopReason::time);
+  EXPECT_GT(r.counters.wall_bounces, 4000);
+  EXPECT_LT(r.counters.wall_bounces, 5100);
+  const double left = s.origin(0, s.time)[0] + s.clusters[0].lo[0];
+  const double right = s.origin(0, s.time)[0] + s.clusters[0].hi[0];
+  EXPECT_GE(left, -1e-12);
+  EXPECT_LE(right, s.box.length + 1e-12);
+}
+
+TEST_P(EventDriven, ClusterSpanningTheBoxIsPinnedInsteadOfBouncingForever) {
+  // A rod exactly as wide as the box would need infinitely many bounces; it is pinned
+  // along x and keeps moving along y.
+  std::vector<Ball<2>> rod;
+  for (int k = 0; k < 4; ++k) rod.push_back({vec<2>(0.5 + k, 2), vec<2>(0.5, 0.25), 0.5, 1.0, 1});
+  State<2> s = make_state<2>(4, Boundary::walls, rod);
+  Recorder<2> rec;
+  const RunResult r = run_engine(s, engine(), {}, until(10), &rec);
+  EXPECT_EQ(r.reason, StopReason::time);
+  EXPECT_EQ(s.velocity(0)[0], 0.0);
+  EXPECT_EQ(std::abs(s.velocity(0)[1]), 0.25);
+  EXPECT_LE(r.counters.wall_bounces, 2);
+}
+
+TEST_P(EventDriven, SphereStickingToAClusterTouchingOneWallSpansTheBoxAndIsPinned) {
+  // The 3-sphere rod touches x = 0; a fourth sphere arriving along x completes a rod of
+  // width L: the merged cluster must be pinned, not bounce forever.
+  std::vector<Ball<2>> balls;
+  for (int k = 0; k < 3; ++k) balls.push_back({vec<2>(0.5 + k, 2), vec<2>(0, 0), 0.5, 1.0, 1});
+  balls.push_back({vec<2>(3.5, 2), vec<2>(-1, 0), 0.5, 1.0});
+  State<2> s = make_state<2>(4, Boundary::walls, balls);
+  const RunResult r = run_engine(s, engine(), {}, until(5), nullptr);
+  EXPECT_EQ(s.n_clusters(), 1);
+  EXPECT_EQ(s.velocity(0)[0], 0.0);
+  EXPECT_LE(r.counters.wall_bounces, 2);
+}
+
+TEST_P(EventDriven, InelasticCollapseIsStoppedByTheTcModel) {
+  // A light sphere between two heavy ones with restitution 0.1 collides infinitely often
+  // in a finite time (inelastic collapse): without the TC model the run stalls at that
+  // instant; with it the run finishes.
+  const std::vector<testing::Ball<2>> balls{{vec<2>(10, 20), vec<2>(1, 0), 0.5, 50.0},
+                                            {vec<2>(20, 20), vec<2>(0, 0), 0.5, 1.0},
+                                            {vec<2>(30, 20), vec<2>(-1, 0), 0.5, 50.0}};
+  State<2> stalls = make_state<2>(40, Boundary::walls, balls);
+  StopCriteria limited = until(30);
+  limited.wall_seconds = 0.2;
+  EXPECT_EQ(run_engine(stalls, engine(), {CollisionOutcome::bounce, 0.1, 0.0}, limited, nullptr).reason,
+            StopReason::wall_seconds);
+  EXPECT_LT(stalls.time, 10.0);
+
+  State<2> s = make_state<2>(40, Boundary::walls, balls);
+  const RunResult r = run_engine(s, engine(), {CollisionOutcome::bounce, 0.1, 1e-9}, limited, nullptr);
+  EXPECT_EQ(r.reason, StopReason::time);
+  EXPECT_LT(r.counters.collisions, 100000);
+  EXPECT_LE(worst_overlap(s), 1e-9);
+}
+
+TEST_P(EventDriven, StopsAtTheRequestedNumberOfClusters) {
+  Config c = testing::small_config(2, 120, 0.2, Boundary::walls, 3);
+  State<2> s = make_initial_state<2>(c);
+  StopCriteria stop;
+  stop.clusters = 40;
+  Recorder<2> rec;
+  const RunResult r = run_engine(s, engine(), {}, stop, &rec);
+  EXPECT_EQ(r.reason, StopReason::clusters);
+  EXPECT_LE(s.n_clusters(), 40);
+  EXPECT_GT(s.n_clusters() + rec.events.back().merges, 40);
+}
+
+TEST_P(EventDriven, StopsAtTheWallClockLimit) {
+  Config c = testing::small_config(2, 150, 0.05, Boundary::periodic, 3);
+  c.collision.outcome = CollisionOutcome::bounce;
+  State<2> s = make_initial_state<2>(c);
+  StopCriteria stop;
+  stop.wall_seconds = 0.05;
+  const RunResult r = run_engine(s, engine(), {CollisionOutcome::bounce, 1.0, 0.0}, stop, nullptr);
+  EXPECT_EQ(r.reason, StopReason::wall_seconds);
+  EXPECT_LT(r.wall_seconds, 1.0);
+}
+
+TEST_P(EventDriven, DetectsThatNoCollisionIsPossible) {
+  State<2> s = make_state<2>(10, Boundary::periodic, {{vec<2>(2, 2), vec<2>(1, 1)}, {vec<2>(6, 3), vec<2>(1, 1)}});
+  EXPECT_EQ(run_engine(s, engine()).reason, StopReason::no_collision_possible);
+  State<2> rest = make_state<2>(10, Boundary::walls, {{vec<2>(2, 2), vec<2>(0, 0)}, {vec<2>(6, 3), vec<2>(0, 0)}});
+  EXPECT_EQ(run_engine(rest, engine()).reason, StopReason::no_collision_possible);
+}
+
+// ---- invariants over random runs -------------------------------------------------------
+
+struct Scenario {
+  int dimension;
+  Boundary boundary;
+  CollisionOutcome outcome;
+  double restitution;
+};
+
+template <int D>
+void check_invariants(const std::string& engine, const Scenario& sc, int n, std::uint64_t seed) {
+  Config c = testing::small_config(D, n, 0.15, sc.boundary, seed);
+  c.initial.velocities = InitialVelocities::gaussian;
+  State<D> s = make_initial_state<D>(c);
+  const double mass = s.total_mass();
+  const Vec<D> p0 = s.momentum();
+  const double scale = s.momentum_scale();
+  double energy = s.kinetic_energy();
+  double worst = -1.0;
+  Recorder<D> rec;
+  rec.check = [&](const State<D>& st, const EventRecord&) {
+    worst = std::max(worst, worst_overlap(st));
+    const double e = st.kinetic_energy();
+    EXPECT_LE(e, energy * (1 + 1e-12)) << "kinetic energy increased at t = " << st.time;
+    energy = e;
+  };
+  StopCriteria stop;
+  if (sc.outcome == CollisionOutcome::bounce) stop.time = 20.0;
+  run_engine(s, engine, {sc.outcome, sc.restitution, 0.0}, stop, &rec);
+  ASSERT_GT(rec.of_kind(EventKind::collision).size(), 10u);
+  EXPECT_LE(worst, 1e-9) << "overlap beyond 1e-9 of a diameter";
+  EXPECT_DOUBLE_EQ(s.total_mass(), mass);
+  int members = 0;
+  for (const auto& k : s.clusters) members += k.size();
+  EXPECT_EQ(members, n);
+  if (sc.boundary == Boundary::periodic) {
+    EXPECT_LT((s.momentum() - p0).norm() / scale, 1e-12) << "momentum not conserved";
+  }
+}
+
+TEST_P(EventDriven, RandomRunsKeepMassMomentumAndNoOverlap2D) {
+  const int n = engine() == "ed" ? 200 : 120;
+  for (Boundary b : {Boundary::walls, Boundary::periodic}) {
+    check_invariants<2>(engine(), {2, b, CollisionOutcome::stick, 0.0}, n, 11);
+    check_invariants<2>(engine(), {2, b, CollisionOutcome::bounce, 0.7}, n, 12);
+  }
+}
+
+TEST_P(EventDriven, RandomRunsKeepMassMomentumAndNoOverlap3D) {
+  const int n = engine() == "ed" ? 200 : 120;
+  for (Boundary b : {Boundary::walls, Boundary::periodic}) {
+    check_invariants<3>(engine(), {3, b, CollisionOutcome::stick, 0.0}, n, 21);
+    check_invariants<3>(engine(), {3, b, CollisionOutcome::bounce, 0.7}, n, 22);
+  }
+}
+
+TEST_P(EventDriven, ElasticBouncesConserveKineticEnergy) {
+  Config c = testing::small_config(2, 100, 0.2, Boundary::periodic, 5);
+  State<2> s = make_initial_state<2>(c);
+  const double e0 = s.kinetic_energy();
+  const RunResult r = run_engine(s, engine(), {CollisionOutcome::bounce, 1.0, 0.0}, until(30), nullptr);
+  EXPECT_GT(r.counters.collisions, 100);
+  EXPECT_NEAR(s.kinetic_energy(), e0, 1e-12 * e0);
+}
+
+TEST_P(EventDriven, SameSeedGivesByteIdenticalFinalState) {
+  auto final_text = [&](std::uint64_t seed) {
+    Config c = testing::small_config(2, 150, 0.2, Boundary::walls, seed);
+    State<2> s = make_initial_state<2>(c);
+    run_engine(s, engine());
+    return state_csv_text(s);
+  };
+  const std::string a = final_text(7), b = final_text(7), other = final_text(8);
+  EXPECT_EQ(a, b);
+  EXPECT_NE(a, other);
+}
+
+}  // namespace
+}  // namespace ballagg

@@ -1,0 +1,147 @@
+// Initial conditions: lattice (paper §4.1), random placement, the velocity laws.
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+#include "support.hpp"
+
+namespace ballagg {
+namespace {
+
+Config defaults() { return Config{}; }
+
+TEST(InitialState, DefaultIsThePapersLatticeWithUnitSpeeds) {
+  Config c = defaults();
+  c.system.volume_fraction = 0.2;
+  const State<2> s = make_initial_state<2>(c);
+  ASSERT_EQ(s.n_spheres(), 2500);
+  EXPECT_NEAR(s.box.length, std::sqrt(2500 * std::numbers::pi * 0.04 / 0.2), 1e-12);
+  const double spacing = s.box.length / 50;
+  for (int i = 0; i < s.n_spheres(); ++i) {
+    const Vec<2> x = s.position(i, 0);
+    EXPECT_NEAR(x[0], (i % 50 + 0.5) * spacing, 1e-12);
+    EXPECT_NEAR(x[1], (i / 50 + 0.5) * spacing, 1e-12);
+    EXPECT_NEAR(s.velocity(i).norm(), 1.0, 1e-15);
+  }
+  EXPECT_EQ(s.n_clusters(), 2500);
+}
+
+TEST(InitialState, PartialCubicLatticeFillsCellsInOrder) {
+  Config c = defaults();
+  c.system.dimension = 3;
+  c.system.n = 10;  // a 3x3x3 lattice, first 10 cells
+  c.system.volume_fraction = 0.05;
+  const State<3> s = make_initial_state<3>(c);
+  const double a = s.box.length / 3;
+  EXPECT_NEAR((s.position(9, 0) - Vec<3>(0.5 * a, 0.5 * a, 1.5 * a)).norm(), 0.0, 1e-12);
+}
+
+TEST(InitialState, RandomPlacementHasNoOverlapAndStaysInsideWalls) {
+  for (int d : {2, 3}) {
+    Config c = testing::small_config(d, 500, 0.3, Boundary::walls, 4);
+    if (d == 2) {
+      const State<2> s = make_initial_state<2>(c);
+      EXPECT_LT(testing::worst_overlap(s), 0.0);
+      for (int i = 0; i < s.n_spheres(); ++i)
+        for (int a = 0; a < 2; ++a) {
+          EXPECT_GE(s.position(i, 0)[a], 0.5);
+          EXPECT_LE(s.position(i, 0)[a], s.box.length - 0.5);
+        }
+    } else {
+      const State<3> s = make_initial_state<3>(c);
+      EXPECT_LT(testing::worst_overlap(s), 0.0);
+    }
+  }
+}
+
+TEST(InitialState, UniformVelocitiesLieInTheCubeOfAppendixA) {
+  Config c = defaults();
+  c.system.n = 10000;
+  c.initial.velocities = InitialVelocities::uniform;
+  c.initial.speed = 2.0;  // components uniform in [-1, 1]
+  const State<2> s = make_initial_state<2>(c);
+  double mean = 0.0, square = 0.0;
+  for (int i = 0; i < s.n_spheres(); ++i) {
+    for (int a = 0; a < 2; ++a) {
+      const double v = s.velocity(i)[a];
+      EXPECT_GE(v, -1.0);
+      EXPECT_LT(v, 1.0);
+      mean += v;
+      square += v * v;
+    }
+  }
+  mean /= 20000;
+  square /= 20000;
+  EXPECT_NEAR(mean, 0.0, 0.03);           // 5 sigma for 20000 draws of variance 1/3
+  EXPECT_NEAR(square, 1.0 / 3.0, 0.015);
+}
+
+TEST(InitialState, GaussianVelocitiesHaveTheRequestedMeanSquareSpeed) {
+  Config c = defaults();
+  c.system.dimension = 3;
+  c.system.n = 20000;
+  c.initial.velocities = InitialVelocities::gaussian;
+  c.initial.speed = 1.5;
+  const State<3> s = make_initial_state<3>(c);
+  double square = 0.0, fourth = 0.0;
+  for (int i = 0; i < s.n_spheres(); ++i) {
+    const double vx = s.velocity(i)[0];
+    square += s.velocity(i).squaredNorm();
+    fourth += vx * vx * vx * vx;
+  }
+  square /= s.n_spheres();
+  fourth /= s.n_spheres();
+  EXPECT_NEAR(square, 2.25, 0.05);
+  // Gaussian kurtosis: <vx^4> = 3 <vx^2>^2 with <vx^2> = 0.75.
+  EXPECT_NEAR(fourth, 3 * 0.75 * 0.75, 0.1);
+}
+
+TEST(InitialState, FixedSpeedDirectionsAreIsotropic) {
+  Config c = defaults();
+  c.system.dimension = 3;
+  c.system.n = 20000;
+  c.system.volume_fraction = 0.1;
+  const State<3> s = make_initial_state<3>(c);
+  Vec<3> mean = Vec<3>::Zero();
+  double zz = 0.0;
+  for (int i = 0; i < s.n_spheres(); ++i) {
+    EXPECT_NEAR(s.velocity(i).norm(), 1.0, 1e-15);
+    mean += s.velocity(i);
+    zz += s.velocity(i)[2] * s.velocity(i)[2];
+  }
+  EXPECT_LT((mean / s.n_spheres()).norm(), 0.03);
+  EXPECT_NEAR(zz / s.n_spheres(), 1.0 / 3.0, 0.015);
+}
+
+TEST(InitialState, ZeroMomentumRemovesTheCentreOfMassVelocity) {
+  Config c = defaults();
+  c.system.n = 400;
+  c.initial.zero_momentum = true;
+  const State<2> s = make_initial_state<2>(c);
+  EXPECT_LT(s.momentum().norm(), 1e-12 * s.momentum_scale());
+}
+
+TEST(InitialState, VelocitiesDoNotDependOnHowPositionsWereDrawn) {
+  Config lattice = testing::small_config(2, 100, 0.2, Boundary::walls, 9);
+  lattice.initial.positions = InitialPositions::lattice;
+  Config random = lattice;
+  random.initial.positions = InitialPositions::random;
+  const State<2> a = make_initial_state<2>(lattice), b = make_initial_state<2>(random);
+  for (int i = 0; i < 100; ++i) EXPECT_EQ(a.velocity(i), b.velocity(i));
+}
+
+TEST(InitialState, LatticeTooDenseIsRefusedWithTheLimit) {
+  Config c = defaults();
+  c.system.n = 2;  // a 2x2 lattice holds 2 spheres: spacing L/2 must exceed 2R
+  c.system.volume_fraction = 0.5;
+  try {
+    make_initial_state<2>(c);
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("lattice"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace ballagg

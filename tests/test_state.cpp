@@ -1,0 +1,71 @@
+// The shared state: lazy positions, merging of clusters (rule 2.9), wall pinning.
+#include <gtest/gtest.h>
+
+#include "support.hpp"
+
+namespace ballagg {
+namespace {
+using testing::Ball;
+using testing::make_state;
+using testing::vec;
+
+TEST(State, PositionsFollowStraightLinesFromTheAnchor) {
+  State<2> s = make_state<2>(20, Boundary::walls, {{vec<2>(5, 5), vec<2>(1, -0.5)}});
+  EXPECT_EQ(s.position(0, 2.0), vec<2>(7, 4));
+}
+
+TEST(State, PeriodicPositionsAreFoldedIntoTheBox) {
+  State<2> s = make_state<2>(10, Boundary::periodic, {{vec<2>(9, 5), vec<2>(1, 0)}});
+  EXPECT_NEAR(s.position(0, 3.0)[0], 2.0, 1e-14);
+}
+
+TEST(State, MergeKeepsTheLargerClusterAndAveragesVelocityByMass) {
+  State<2> s = make_state<2>(20, Boundary::walls,
+                             {{vec<2>(5, 5), vec<2>(1, 0), 0.5, 1.0, 7},
+                              {vec<2>(6, 5), vec<2>(1, 0), 0.5, 1.0, 7},
+                              {vec<2>(7, 5), vec<2>(-2, 1), 0.5, 2.0}});
+  ASSERT_EQ(s.n_clusters(), 2);
+  const int keep = s.merge(1, 2, 0.0);
+  EXPECT_EQ(keep, s.spheres.cluster[0]);
+  EXPECT_EQ(s.n_clusters(), 1);
+  EXPECT_EQ(s.largest_cluster(), 3);
+  const Cluster<2>& k = s.clusters[keep];
+  EXPECT_DOUBLE_EQ(k.mass, 4.0);
+  EXPECT_NEAR((k.velocity - vec<2>(-0.5, 0.5)).norm(), 0.0, 1e-15);
+  // The absorbed sphere keeps its place; the cluster's box covers all three spheres.
+  EXPECT_NEAR((s.position(2, 0.0) - vec<2>(7, 5)).norm(), 0.0, 1e-14);
+  EXPECT_NEAR(k.hi[0] - k.lo[0], 3.0, 1e-14);
+  EXPECT_NEAR(k.hi[1] - k.lo[1], 1.0, 1e-14);
+}
+
+TEST(State, MergeAcrossAPeriodicFaceJoinsTheNearestImages) {
+  // Spheres touch through the face x = 0: the merged cluster is 2 diameters wide, not L.
+  State<2> s = make_state<2>(10, Boundary::periodic,
+                             {{vec<2>(0.4, 5), vec<2>(0, 1)}, {vec<2>(9.4, 5), vec<2>(0, -1)}});
+  const int keep = s.merge(0, 1, 0.0);
+  const Cluster<2>& k = s.clusters[keep];
+  EXPECT_NEAR(k.hi[0] - k.lo[0], 2.0, 1e-14);
+  EXPECT_NEAR((s.unwrapped_position(0, 0) - s.unwrapped_position(1, 0)).norm(), 1.0, 1e-14);
+  EXPECT_EQ(k.velocity, vec<2>(0, 0));
+}
+
+TEST(State, ClusterSpanningTheBoxBetweenWallsIsPinnedAlongThatAxis) {
+  // A rod of 4 unit discs in a box of length 4 touches both walls: it cannot move along x.
+  std::vector<Ball<2>> rod;
+  for (int k = 0; k < 4; ++k) rod.push_back({vec<2>(0.5 + k, 2), vec<2>(0.3, 0.2), 0.5, 1.0, 1});
+  State<2> s = make_state<2>(4, Boundary::walls, rod);
+  EXPECT_TRUE(s.pinned(0, 0));
+  EXPECT_FALSE(s.pinned(0, 1));
+  EXPECT_EQ(s.clusters[0].velocity, vec<2>(0, 0.2));
+}
+
+TEST(State, TotalsSumOverClusters) {
+  State<3> s = make_state<3>(10, Boundary::walls,
+                             {{vec<3>(2, 2, 2), vec<3>(1, 0, 0), 0.5, 2.0}, {vec<3>(5, 5, 5), vec<3>(0, 0, -3), 0.5, 1.0}});
+  EXPECT_DOUBLE_EQ(s.kinetic_energy(), 0.5 * 2 * 1 + 0.5 * 1 * 9);
+  EXPECT_EQ(s.momentum(), vec<3>(2, 0, -3));
+  EXPECT_DOUBLE_EQ(s.total_mass(), 3.0);
+}
+
+}  // namespace
+}  // namespace ballagg
