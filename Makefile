@@ -23,7 +23,7 @@ demo: build
 	$(BUILD_DIR)/bin/ballagg run --out out/demo
 
 bench: build
-	bash bench/ed_scaling.sh
+	/usr/bin/python3 bench/ed_scaling.py
 
 clean:
 	rm -rf $(BUILD_DIR)

@@ -22,9 +22,9 @@ std::optional<double> max_relative_overlap(const State<D>& s) {
   std::optional<double> worst;
   const double reach = 4.0 * s.max_radius();
   for (int i = 0; i < n; ++i) {
-    grid.for_each_near(x[i], [&](int j) {
+    grid.for_each_near(x[i], [&](int j, const Vec<D>& xj) {
       if (j <= i) return;
-      const double d = s.box.separation(x[i], x[j]).norm();
+      const double d = s.box.separation(x[i], xj).norm();
       if (d >= reach) return;
       const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
       const double overlap = (sigma - d) / sigma;

@@ -20,12 +20,14 @@ void State<D>::finalize() {
     spread += r - spheres.radius.front();
   }
   mean_radius_ = spheres.radius.empty() ? 0.0 : spheres.radius.front() + spread / n_spheres();
-  alive_clusters_ = 0;
+  alive_.clear();
+  alive_slot_.assign(clusters.size(), -1);
   largest_cluster_ = 0;
   for (int c = 0; c < static_cast<int>(clusters.size()); ++c) {
     Cluster<D>& k = clusters[c];
     if (!k.alive()) continue;
-    ++alive_clusters_;
+    alive_slot_[c] = static_cast<std::int32_t>(alive_.size());
+    alive_.push_back(c);
     largest_cluster_ = std::max(largest_cluster_, k.size());
     k.mass = 0.0;
     k.lo = Vec<D>::Constant(std::numeric_limits<double>::infinity());
@@ -36,10 +38,9 @@ void State<D>::finalize() {
       k.lo = k.lo.cwiseMin(spheres.offset[i] - r);
       k.hi = k.hi.cwiseMax(spheres.offset[i] + r);
     }
-    k.anchor = box.wrap(k.anchor);
-    k.stamp = new_stamp();
-    set_velocity(c, k.velocity, k.anchor_time);
+    assign_motion(c, k.velocity, k.anchor_time);
   }
+  resync_totals();
 }
 
 template <int D>
@@ -51,6 +52,13 @@ bool State<D>::pinned(int c, int a) const {
 
 template <int D>
 void State<D>::set_velocity(int c, const Vec<D>& v, double t) {
+  add_to_totals(c, -1.0);
+  assign_motion(c, v, t);
+  add_to_totals(c, +1.0);
+}
+
+template <int D>
+void State<D>::assign_motion(int c, const Vec<D>& v, double t) {
   Cluster<D>& k = clusters[c];
   k.anchor = box.wrap(origin(c, t));
   k.anchor_time = t;
@@ -72,6 +80,8 @@ int State<D>::merge(int i, int j, double t) {
     std::swap(i, j);
   }
   // a survives; i is its sphere of the contact, j the absorbed cluster's sphere.
+  add_to_totals(a, -1.0);
+  add_to_totals(b, -1.0);
   Cluster<D>& keep = clusters[a];
   Cluster<D>& gone = clusters[b];
   // Offsets of the absorbed spheres in the survivor's frame: the contact vector between
@@ -94,25 +104,29 @@ int State<D>::merge(int i, int j, double t) {
   gone.mass = 0.0;
   gone.velocity.setZero();
   gone.stamp = new_stamp();
-  --alive_clusters_;
+  const std::int32_t moved = alive_.back();
+  alive_[alive_slot_[b]] = moved;
+  alive_slot_[moved] = alive_slot_[b];
+  alive_.pop_back();
+  alive_slot_[b] = -1;
   largest_cluster_ = std::max(largest_cluster_, keep.size());
-  set_velocity(a, v, t);
+  assign_motion(a, v, t);
+  add_to_totals(a, +1.0);
+  if (n_clusters() <= resync_below_) resync_totals();
   return a;
 }
 
 template <int D>
 double State<D>::kinetic_energy() const {
   double e = 0.0;
-  for (const Cluster<D>& k : clusters)
-    if (k.alive()) e += 0.5 * k.mass * k.velocity.squaredNorm();
+  for (int c : alive_) e += 0.5 * clusters[c].mass * clusters[c].velocity.squaredNorm();
   return e;
 }
 
 template <int D>
 Vec<D> State<D>::momentum() const {
   Vec<D> p = Vec<D>::Zero();
-  for (const Cluster<D>& k : clusters)
-    if (k.alive()) p += k.mass * k.velocity;
+  for (int c : alive_) p += clusters[c].mass * clusters[c].velocity;
   return p;
 }
 
@@ -126,8 +140,7 @@ double State<D>::total_mass() const {
 template <int D>
 double State<D>::momentum_scale() const {
   double s = 0.0;
-  for (const Cluster<D>& k : clusters)
-    if (k.alive()) s += k.mass * k.velocity.norm();
+  for (int c : alive_) s += clusters[c].mass * clusters[c].velocity.norm();
   return s;
 }
 

@@ -52,7 +52,9 @@ class State {
   void finalize();
 
   int n_spheres() const { return spheres.size(); }
-  int n_clusters() const { return alive_clusters_; }
+  int n_clusters() const { return static_cast<int>(alive_.size()); }
+  // Ids of the clusters that still have members (in no particular order).
+  const std::vector<std::int32_t>& alive_clusters() const { return alive_; }
   int largest_cluster() const { return largest_cluster_; }
   double min_diameter() const { return min_diameter_; }
   double max_radius() const { return max_radius_; }
@@ -87,6 +89,11 @@ class State {
   // True when cluster c spans the box along axis a (walls only): it cannot move along a.
   bool pinned(int c, int a) const;
 
+  // Totals kept up to date at every change: O(1) to read, within a few ulps of the exact
+  // sums (they are recomputed from scratch each time the number of clusters halves).
+  double running_kinetic_energy() const { return running_energy_; }
+  const Vec<D>& running_momentum() const { return running_momentum_; }
+
   // Totals computed from scratch (exact up to summation round-off).
   double kinetic_energy() const;
   Vec<D> momentum() const;
@@ -99,14 +106,29 @@ class State {
 
  private:
   std::uint64_t new_stamp() { return ++last_stamp_; }
+  void assign_motion(int c, const Vec<D>& v, double t);
+  void add_to_totals(int c, double sign) {
+    const Cluster<D>& k = clusters[c];
+    running_energy_ += sign * 0.5 * k.mass * k.velocity.squaredNorm();
+    running_momentum_ += sign * k.mass * k.velocity;
+  }
+  void resync_totals() {
+    running_energy_ = kinetic_energy();
+    running_momentum_ = momentum();
+    resync_below_ = n_clusters() / 2;
+  }
 
   std::uint64_t last_stamp_ = 0;
-  int alive_clusters_ = 0;
+  std::vector<std::int32_t> alive_;       // ids of clusters with members
+  std::vector<std::int32_t> alive_slot_;  // position of each cluster id in alive_
   int largest_cluster_ = 0;
   double min_diameter_ = 0.0;
   double max_radius_ = 0.0;
   double mean_radius_ = 0.0;
   std::int64_t pinnings_ = 0;
+  double running_energy_ = 0.0;
+  Vec<D> running_momentum_ = Vec<D>::Zero();
+  int resync_below_ = 0;
 };
 
 extern template class State<2>;

@@ -71,7 +71,7 @@ std::vector<Vec<D>> random_positions(const Config& c, const Box<D>& box) {
       Vec<D> p;
       for (int a = 0; a < D; ++a) p[a] = box.wrap(rng.uniform(lo, hi));
       bool free = true;
-      grid.for_each_near(p, [&](int j) { free = free && box.separation(p, x[j]).norm() > 2.0 * r; });
+      grid.for_each_near(p, [&](int, const Vec<D>& xj) { free = free && box.separation(p, xj).norm() > 2.0 * r; });
       if (free) {
         grid.insert(static_cast<int>(k), p);
         x.push_back(p);
@@ -126,7 +126,7 @@ std::vector<Vec<D>> unwrapped_offsets(const Box<D>& box, const SphereTable<D>& t
     while (!queue.empty()) {
       const int s = queue.front();
       queue.pop_front();
-      grid.for_each_near(t.position[s], [&](int j) {
+      grid.for_each_near(t.position[s], [&](int j, const Vec<D>&) {
         if (placed[j] || label[j] != label[s]) return;
         const Vec<D> d = box.separation(t.position[j], t.position[s]);
         if (d.norm() >= 2.0 * (t.radius[s] + t.radius[j]) || d.norm() >= 0.5 * box.length) return;
@@ -171,7 +171,7 @@ State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table_in) {
   CellGrid<D> grid(box, 2.0 * max_radius, n);
   for (int i = 0; i < n; ++i) grid.insert(i, t.position[i]);
   for (int i = 0; i < n; ++i) {
-    grid.for_each_near(t.position[i], [&](int j) {
+    grid.for_each_near(t.position[i], [&](int j, const Vec<D>&) {
       if (j <= i) return;
       const double sigma = t.radius[i] + t.radius[j];
       const double d = box.separation(t.position[i], t.position[j]).norm();

@@ -46,8 +46,9 @@ void TimeseriesRecorder<D>::on_finish(const State<D>& s, const RunResult& r) {
 
 template <int D>
 void TimeseriesRecorder<D>::row(const State<D>& s, double t) {
-  const Vec<D> p = s.momentum();
-  fmt::format_to(std::back_inserter(csv_), "{},{},{},{},", t, s.n_clusters(), s.largest_cluster(), s.kinetic_energy());
+  const Vec<D>& p = s.running_momentum();
+  fmt::format_to(std::back_inserter(csv_), "{},{},{},{},", t, s.n_clusters(), s.largest_cluster(),
+                 s.running_kinetic_energy());
   for (int a = 0; a < D; ++a) fmt::format_to(std::back_inserter(csv_), "{},", p[a]);
   fmt::format_to(std::back_inserter(csv_), "{},{}\n", events_, collisions_);
   last_row_time_ = t;

@@ -27,7 +27,7 @@ Config resolve_defaults(Config c, const State<D>& s) {
   double mean_square_speed = 0.0;
   for (int i = 0; i < s.n_spheres(); ++i) mean_square_speed += s.velocity(i).squaredNorm();
   mean_square_speed /= s.n_spheres();
-  if (!c.engine.skin) c.engine.skin = mean_radius;
+  if (!c.engine.skin) c.engine.skin = default_skin(s);
   if (!c.collision.tc_time && c.collision.outcome == CollisionOutcome::bounce) {
     const double rms = std::sqrt(mean_square_speed);
     c.collision.tc_time = rms > 0.0 ? kDefaultTcFraction * 2.0 * mean_radius / rms : 0.0;
@@ -109,6 +109,7 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   j["bounces"] = r.counters.bounces;
   j["wall_bounces"] = r.counters.wall_bounces;
   j["list_rebuilds"] = r.counters.list_rebuilds;
+  j["event_queue_peak"] = r.counters.queue_peak;
   j["wall_pinnings"] = s.pinnings() - initial.pinnings;
   j["wall_seconds"] = r.wall_seconds;
   j["events_per_second"] = r.wall_seconds > 0 ? r.counters.events / r.wall_seconds : 0.0;

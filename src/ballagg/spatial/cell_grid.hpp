@@ -2,7 +2,9 @@
 // A uniform grid of cells over the box, each holding a doubly linked list of item ids, so
 // that inserting, moving and removing an item costs O(1) and a query visits only the 3^D
 // cells around a point. Cells are at least `min_cell_size` wide, so every item within
-// that distance of the query point is visited.
+// that distance of the query point is visited. Each node keeps the position the item was
+// binned at next to its link, so a query can reject far items without touching any other
+// memory (the traversal is bound by memory latency, not arithmetic).
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -28,24 +30,27 @@ class CellGrid {
     std::int64_t cells = 1;
     for (int a = 0; a < D; ++a) cells *= per_side_;
     head_.assign(cells, -1);
-    next_.assign(n_items, -1);
-    prev_.assign(n_items, -1);
-    cell_of_.assign(n_items, -1);
+    node_.assign(n_items, Node{});
   }
 
   int per_side() const { return per_side_; }
   double cell_size() const { return cell_size_; }
 
   // p must lie in the box (folded into it when periodic); points on the faces are clamped.
-  void insert(int id, const Vec<D>& p) { link(id, cell_index(p)); }
+  void insert(int id, const Vec<D>& p) {
+    node_[id].position = p;
+    link(id, cell_index(p));
+  }
   void move(int id, const Vec<D>& p) {
+    node_[id].position = p;
     const std::int32_t c = cell_index(p);
-    if (c == cell_of_[id]) return;
+    if (c == node_[id].cell) return;
     unlink(id);
     link(id, c);
   }
 
-  // Calls f(id) for every item in the cells adjacent to p (each cell visited once).
+  // Calls f(id, binned position) for every item in the cells adjacent to p (each cell
+  // visited once).
   template <class F>
   void for_each_near(const Vec<D>& p, F&& f) const {
     std::array<std::array<int, 3>, D> coords;
@@ -55,7 +60,7 @@ class CellGrid {
     while (true) {
       std::int64_t cell = 0;
       for (int a = D - 1; a >= 0; --a) cell = cell * per_side_ + coords[a][k[a]];
-      for (std::int32_t id = head_[cell]; id >= 0; id = next_[id]) f(id);
+      for (std::int32_t id = head_[cell]; id >= 0; id = node_[id].next) f(id, node_[id].position);
       int a = 0;
       while (a < D && ++k[a] == counts[a]) k[a++] = 0;
       if (a == D) break;
@@ -86,22 +91,28 @@ class CellGrid {
     return n;
   }
   void link(int id, std::int32_t c) {
-    cell_of_[id] = c;
-    prev_[id] = -1;
-    next_[id] = head_[c];
-    if (head_[c] >= 0) prev_[head_[c]] = id;
+    Node& n = node_[id];
+    n.cell = c;
+    n.prev = -1;
+    n.next = head_[c];
+    if (head_[c] >= 0) node_[head_[c]].prev = id;
     head_[c] = id;
   }
   void unlink(int id) {
-    const std::int32_t c = cell_of_[id];
-    if (prev_[id] >= 0) next_[prev_[id]] = next_[id]; else head_[c] = next_[id];
-    if (next_[id] >= 0) prev_[next_[id]] = prev_[id];
+    const Node& n = node_[id];
+    if (n.prev >= 0) node_[n.prev].next = n.next; else head_[n.cell] = n.next;
+    if (n.next >= 0) node_[n.next].prev = n.prev;
   }
 
   Box<D> box_;
   int per_side_ = 1;
   double cell_size_ = 1.0;
-  std::vector<std::int32_t> head_, next_, prev_, cell_of_;
+  struct Node {
+    Vec<D> position = Vec<D>::Zero();
+    std::int32_t next = -1, prev = -1, cell = -1;
+  };
+  std::vector<std::int32_t> head_;  // per cell: first item, or -1
+  std::vector<Node> node_;          // per item
 };
 
 }  // namespace ballagg

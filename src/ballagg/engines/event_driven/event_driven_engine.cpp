@@ -15,13 +15,15 @@
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
+#include <numbers>
 #include <optional>
 
 #include "ballagg/collision/prediction.hpp"
 #include "ballagg/collision/resolve.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
-#include "ballagg/engines/event_driven/event_queue.hpp"
+#include "ballagg/engines/event_driven/event_calendar.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
 #include "ballagg/spatial/neighbor_lists.hpp"
 
@@ -38,6 +40,7 @@ class EventDrivenCore {
     const int m = static_cast<int>(s_.clusters.size());
     travel_base_.assign(m, 0.0);
     lists_.reset(n, m);
+    calendar_.reset(m);
     for (int i = 0; i < n; ++i) grid_.insert(i, s_.position(i, s_.time));
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) travel_base_[c] = -travelled_since_anchor(c, s_.time);
@@ -49,9 +52,8 @@ class EventDrivenCore {
   EngineCounters& counters() { return count_; }
 
   std::optional<Event> next_event() {
-    while (!queue_.empty()) {
-      const Event e = queue_.top();
-      queue_.pop();
+    while (!calendar_.empty()) {
+      const Event e = calendar_.pop();
       if (valid(e)) return e;
     }
     return std::nullopt;
@@ -70,7 +72,7 @@ class EventDrivenCore {
   // The default skin: one mean radius. Periodic boxes need every listed pair to be closer
   // than half the box, so the skin shrinks in a small periodic box.
   static double choose_skin(const State<D>& s, double requested) {
-    double skin = requested > 0.0 ? requested : s.mean_radius();
+    double skin = requested > 0.0 ? requested : default_skin(s);
     if (s.box.periodic()) {
       const double room = (0.5 * s.box.length - 2.0 * s.max_radius()) / 1.5;
       skin = std::min(skin, 0.99 * room);
@@ -102,13 +104,19 @@ class EventDrivenCore {
     return k.anchor_time + (0.5 * skin_ - travel_base_[c]) / speed;
   }
 
-  // Lists sphere i against every foreign sphere within sigma + skin at time t.
+  // Lists sphere i against every foreign sphere within sigma + skin at time t. The grid
+  // holds each sphere where it was binned, at most skin / 2 from where it is now, so
+  // spheres binned farther than R_i + R_max + 1.5 skin away are rejected at once.
   void find_partners(int i, double t, bool only_higher) {
     const std::int32_t* cluster = s_.spheres.cluster.data();
+    const int ci = cluster[i];
     const Vec<D> xi = s_.unwrapped_position(i, t);
+    const Vec<D> xi_folded = s_.box.wrap(xi);
     const double ri = s_.spheres.radius[i];
-    grid_.for_each_near(s_.box.wrap(xi), [&](int j) {
-      if (cluster[j] == cluster[i] || (only_higher && j < i)) return;
+    const double binned_reach = ri + s_.max_radius() + 1.5 * skin_;
+    grid_.for_each_near(xi_folded, [&](int j, const Vec<D>& binned) {
+      if (s_.box.separation(xi_folded, binned).squaredNorm() >= binned_reach * binned_reach) return;
+      if (cluster[j] == ci || (only_higher && j < i)) return;
       const double reach = ri + s_.spheres.radius[j] + skin_;
       if (s_.box.separation(xi, s_.unwrapped_position(j, t)).squaredNorm() < reach * reach)
         lists_.add_pair(i, j, cluster);
@@ -131,14 +139,16 @@ class EventDrivenCore {
 
   // ---- predictions -----------------------------------------------------------------------
 
-  // Pushes the next wall contact, list rebuild and pair contacts of cluster c. Pair events
-  // later than either cluster's list rebuild are not pushed: the rebuild predicts them.
+  // Files the next wall contact, list rebuild and pair contacts of cluster c, replacing
+  // everything filed under c before (all of it involved c's previous motion). Pair events
+  // later than either cluster's list rebuild are left out: the rebuild predicts them.
   void predict(int c, bool skip_lower_clusters = false, int skip_cluster = -1) {
     const Cluster<D>& k = s_.clusters[c];
+    batch_.clear();
     const WallContact w = next_wall_contact(s_, c);
-    if (w.time < kNever) queue_.push({w.time, c, w.axis, k.stamp, 0, EventKind::wall});
+    if (w.time < kNever) batch_.push_back({w.time, c, w.axis, k.stamp, 0, EventKind::wall});
     const double horizon = rebuild_time(c);
-    if (horizon < kNever) queue_.push({horizon, c, 0, k.stamp, 0, EventKind::list_rebuild});
+    if (horizon < kNever) batch_.push_back({horizon, c, 0, k.stamp, 0, EventKind::list_rebuild});
     const std::int32_t* cluster = s_.spheres.cluster.data();
     for (int i : lists_.exposed(c)) {
       for (int j : lists_.partners(i)) {
@@ -147,14 +157,11 @@ class EventDrivenCore {
         const double t = predicted_contact(s_, i, j);
         if (t >= horizon || t >= rebuild_time(d)) continue;
         const int lo = std::min(i, j), hi = std::max(i, j);
-        queue_.push({t, lo, hi, s_.cluster_of(lo).stamp, s_.cluster_of(hi).stamp, EventKind::collision});
+        batch_.push_back({t, lo, hi, s_.cluster_of(lo).stamp, s_.cluster_of(hi).stamp, EventKind::collision});
       }
     }
-    count_.queue_peak = std::max<std::int64_t>(count_.queue_peak, queue_.size());
-    if (queue_.size() > compact_at_) {
-      queue_.drop_stale([this](const Event& e) { return valid(e); });
-      compact_at_ = std::max<std::size_t>(2 * queue_.size(), kMinCompaction);
-    }
+    calendar_.refile(c, std::move(batch_));
+    count_.queue_peak = std::max<std::int64_t>(count_.queue_peak, calendar_.size());
   }
 
   // ---- event handlers --------------------------------------------------------------------
@@ -197,7 +204,9 @@ class EventDrivenCore {
     const int a = s_.spheres.cluster[i], b = s_.spheres.cluster[j];
     const double budget_used = std::max(travelled(a, t), travelled(b, t));
     const int keep = s_.merge(i, j, t);
-    lists_.absorb(keep, keep == a ? b : a, s_.spheres.cluster.data());
+    const int gone = keep == a ? b : a;
+    lists_.absorb(keep, gone, s_.spheres.cluster.data());
+    calendar_.forget(gone);
     travel_base_[keep] = budget_used;
     ++count_.merges;
     return keep;
@@ -216,17 +225,15 @@ class EventDrivenCore {
     return best;
   }
 
-  static constexpr std::size_t kMinCompaction = 1 << 16;
-
   State<D>& s_;
   CollisionSettings law_;
   double skin_;
   CellGrid<D> grid_;
   NeighborLists lists_;
-  EventQueue queue_;
+  EventCalendar calendar_;
+  std::vector<Event> batch_;         // scratch for predict()
   std::vector<double> travel_base_;  // path length travelled by a cluster at its anchor time
   EngineCounters count_;
-  std::size_t compact_at_ = kMinCompaction;
 };
 
 template <int D>
@@ -246,10 +253,21 @@ class EventDrivenEngine final : public Engine<D> {
 }  // namespace
 
 template <int D>
+double default_skin(const State<D>& s) {
+  // Radius r of the ball holding kSkinNeighbours centres at number density n.
+  const double density = s.n_spheres() / s.box.volume();
+  const double unit_ball = D == 2 ? std::numbers::pi : 4.0 / 3.0 * std::numbers::pi;
+  const double reach = std::pow(kSkinNeighbours / (density * unit_ball), 1.0 / D);
+  return std::max(reach - 2.0 * s.mean_radius(), kMinSkin * s.mean_radius());
+}
+
+template <int D>
 std::unique_ptr<Engine<D>> make_event_driven_engine(const EventDrivenSettings& settings) {
   return std::make_unique<EventDrivenEngine<D>>(settings);
 }
 
+template double default_skin<2>(const State<2>&);
+template double default_skin<3>(const State<3>&);
 template std::unique_ptr<Engine<2>> make_event_driven_engine<2>(const EventDrivenSettings&);
 template std::unique_ptr<Engine<3>> make_event_driven_engine<3>(const EventDrivenSettings&);
 

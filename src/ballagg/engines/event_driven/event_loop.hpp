@@ -7,7 +7,8 @@
 
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/engine.hpp"
-#include "ballagg/engines/event_driven/event_queue.hpp"
+#include "ballagg/collision/contact_time.hpp"
+#include "ballagg/engines/event_driven/event_calendar.hpp"
 
 namespace ballagg {
 
@@ -16,8 +17,8 @@ namespace ballagg {
 template <int D>
 bool collisions_impossible(const State<D>& s) {
   const Vec<D>* first = nullptr;
-  for (const Cluster<D>& k : s.clusters) {
-    if (!k.alive()) continue;
+  for (int c : s.alive_clusters()) {
+    const Cluster<D>& k = s.clusters[c];
     if (!s.box.periodic() && k.velocity != Vec<D>::Zero()) return false;
     if (first == nullptr) first = &k.velocity;
     else if (k.velocity != *first) return false;

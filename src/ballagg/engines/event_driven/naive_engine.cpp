@@ -30,8 +30,7 @@ class NaiveCore {
       for (int j = i + 1; j < n; ++j)
         if (cluster[i] != cluster[j])
           consider({predicted_contact(s_, i, j), i, j, 0, 0, EventKind::collision});
-    for (int c = 0; c < static_cast<int>(s_.clusters.size()); ++c) {
-      if (!s_.clusters[c].alive()) continue;
+    for (int c : s_.alive_clusters()) {
       const WallContact w = next_wall_contact(s_, c);
       consider({w.time, c, w.axis, 0, 0, EventKind::wall});
     }
