@@ -1,1 +1,485 @@
-// written by the input-validation test helper
+// End-to-end tests of the ballagg binary: commands, the files a run writes, feeding a
+// final state back in, determinism, and the bad-input contract (exit status 2, one line on
+// stderr naming the key or the file line, and no output directory created).
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#ifndef BALLAGG_BINARY
+#error "BALLAGG_BINARY must name the ballagg executable"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace {
+
+#define EXPECT_CONTAINS(haystack, needle) \
+  EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << "'" << (needle) << "' not in: " << (haystack)
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+
+std::string quoted(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+struct Outcome {
+  int status = -1;
+  std::string out, err;
+};
+
+// A fresh directory per test; every command runs with the binary, its output captured.
+class Cli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::random_device rd;
+    dir_ = fs::temp_directory_path() / ("ballagg-test-cli-" + std::to_string(rd()) + "-" + std::to_string(rd()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+
+  fs::path path(const std::string& name) const { return dir_ / name; }
+
+  // Runs `ballagg args...` (each argument quoted for the shell); a run that hangs is killed
+  // after a minute and reported with status 124.
+  Outcome run(const std::vector<std::string>& args) const {
+    std::string command = "timeout -k 5 60 ";
+    command += quoted(BALLAGG_BINARY);
+    for (const std::string& a : args) command.append(" ").append(quoted(a));
+    const fs::path out = dir_ / ".stdout", err = dir_ / ".stderr";
+    command.append(" >").append(quoted(out.string())).append(" 2>").append(quoted(err.string()));
+    command.append(" </dev/null");
+    const int raw = std::system(command.c_str());
+    Outcome o;
+    o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    o.out = slurp(out);
+    o.err = slurp(err);
+    fs::remove(out);
+    fs::remove(err);
+    return o;
+  }
+
+  // A small, fast run (16 discs, a few milliseconds) with extra arguments.
+  Outcome tiny_run(const fs::path& out_dir, std::vector<std::string> extra = {}) const {
+    std::vector<std::string> args{"run", "--quiet", "--out", out_dir.string(), "--set", "system.n=16"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return run(args);
+  }
+
+  // The bad-input contract: status 2, exactly one line on stderr (containing every needle),
+  // nothing on stdout, and the output directory not created.
+  void expect_bad_input(const std::vector<std::string>& args, const fs::path& out_dir,
+                        const std::vector<std::string>& needles) const {
+    const Outcome o = run(args);
+    EXPECT_EQ(o.status, 2) << "stderr: " << o.err;
+    EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1) << "stderr: " << o.err;
+    EXPECT_TRUE(!o.err.empty() && o.err.back() == '\n') << "stderr: " << o.err;
+    EXPECT_EQ(o.err.rfind("ballagg: error: ", 0), 0u) << "stderr: " << o.err;
+    for (const std::string& n : needles) EXPECT_CONTAINS(o.err, n);
+    EXPECT_EQ(o.out, "");
+    EXPECT_FALSE(fs::exists(out_dir)) << out_dir << " was created";
+  }
+
+  fs::path dir_;
+};
+
+nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(slurp(p)); }
+
+int line_count(const std::string& text) { return static_cast<int>(std::count(text.begin(), text.end(), '\n')); }
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------
+// Commands that succeed
+
+TEST_F(Cli, HelpExitsZeroAndListsTheCommands) {
+  const Outcome o = run({"--help"});
+  EXPECT_EQ(o.status, 0);
+  EXPECT_CONTAINS(o.out, "run");
+  EXPECT_CONTAINS(o.out, "config");
+  EXPECT_EQ(o.err, "");
+}
+
+TEST_F(Cli, RunHelpExitsZeroAndListsItsOptions) {
+  const Outcome o = run({"run", "--help"});
+  EXPECT_EQ(o.status, 0);
+  EXPECT_CONTAINS(o.out, "--out");
+  EXPECT_CONTAINS(o.out, "--seed");
+  EXPECT_CONTAINS(o.out, "--set");
+}
+
+TEST_F(Cli, VersionExitsZeroAndPrintsTheVersion) {
+  const Outcome o = run({"--version"});
+  EXPECT_EQ(o.status, 0);
+  EXPECT_EQ(o.out.rfind("ballagg ", 0), 0u) << o.out;
+  EXPECT_EQ(line_count(o.out), 1);
+}
+
+TEST_F(Cli, MissingCommandIsBadInput) {
+  expect_bad_input({}, path("never"), {"subcommand"});
+}
+
+TEST_F(Cli, TinyRunWritesEveryResultFile) {
+  const fs::path out = path("run");
+  const Outcome o = tiny_run(out);
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_EQ(o.err, "");  // --quiet
+  EXPECT_CONTAINS(o.out, out.string());
+  for (const char* name : {"summary.json", "timeseries.csv", "final.csv", "final.xyz", "config.toml"})
+    EXPECT_TRUE(fs::is_regular_file(out / name)) << name;
+  // No temporary files are left behind.
+  for (const auto& e : fs::directory_iterator(out))
+    EXPECT_NE(e.path().filename().string().front(), '.') << e.path();
+
+  const nlohmann::json summary = read_json(out / "summary.json");
+  EXPECT_EQ(summary["n_particles"], 16);
+  EXPECT_EQ(summary["dimension"], 2);
+  EXPECT_EQ(summary["n_clusters"], 1);  // default stop.clusters = 1
+  EXPECT_EQ(summary["stop_reason"], "clusters");
+  EXPECT_EQ(summary["seed"], 1);
+  EXPECT_EQ(summary["config"]["system"]["n"], 16);
+
+  const std::string csv = slurp(out / "final.csv");
+  EXPECT_EQ(csv.rfind("x,y,vx,vy,radius,mass,cluster\n", 0), 0u);
+  EXPECT_EQ(line_count(csv), 17);
+  const std::string xyz = slurp(out / "final.xyz");
+  EXPECT_EQ(xyz.rfind("16\n", 0), 0u) << xyz.substr(0, 40);
+  EXPECT_GE(line_count(slurp(out / "timeseries.csv")), 3);  // header, t = 0, final
+}
+
+TEST_F(Cli, RunWithoutXyzWritesNoXyzFile) {
+  const fs::path out = path("run");
+  ASSERT_EQ(tiny_run(out, {"--set", "output.xyz=false"}).status, 0);
+  EXPECT_TRUE(fs::exists(out / "final.csv"));
+  EXPECT_FALSE(fs::exists(out / "final.xyz"));
+}
+
+TEST_F(Cli, RunIn3DWithPeriodicBoundaryWorks) {
+  const fs::path out = path("run3");
+  const Outcome o = tiny_run(out, {"--set", "system.dimension=3", "--set", "system.boundary=periodic", "--set",
+                                   "initial.positions=random", "--set", "stop.clusters=4"});
+  ASSERT_EQ(o.status, 0) << o.err;
+  const nlohmann::json summary = read_json(out / "summary.json");
+  EXPECT_EQ(summary["dimension"], 3);
+  EXPECT_EQ(summary["boundary"], "periodic");
+  EXPECT_LE(summary["n_clusters"].get<int>(), 4);
+  EXPECT_EQ(slurp(out / "final.csv").rfind("x,y,z,vx,vy,vz,radius,mass,cluster\n", 0), 0u);
+}
+
+TEST_F(Cli, ExistingEmptyOutputDirectoryIsUsed) {
+  const fs::path out = path("existing");
+  fs::create_directories(out);
+  ASSERT_EQ(tiny_run(out).status, 0);
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+}
+
+TEST_F(Cli, MissingParentsOfTheOutputDirectoryAreCreated) {
+  const fs::path out = path("a/b/c");
+  ASSERT_EQ(tiny_run(out).status, 0);
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+}
+
+TEST_F(Cli, ConfigFileAndSetOverridesAreBothApplied) {
+  write(path("cfg.toml"), "[system]\nn = 9\nradius = 0.3\n[stop]\nclusters = 3\n");
+  const fs::path out = path("run");
+  const Outcome o = run({"run", "-q", path("cfg.toml").string(), "--out", out.string(), "--set", "system.n=25"});
+  ASSERT_EQ(o.status, 0) << o.err;
+  const nlohmann::json summary = read_json(out / "summary.json");
+  EXPECT_EQ(summary["n_particles"], 25);
+  EXPECT_EQ(summary["config"]["system"]["radius"], 0.3);
+  EXPECT_EQ(summary["config"]["stop"]["clusters"], 3);
+  EXPECT_LE(summary["n_clusters"].get<int>(), 3);
+}
+
+TEST_F(Cli, FinalCsvFedBackAsInitialFileContinuesTheRun) {
+  const fs::path first = path("first");
+  ASSERT_EQ(tiny_run(first, {"--set", "stop.clusters=6", "--set", "initial.positions=random"}).status, 0);
+  const nlohmann::json s1 = read_json(first / "summary.json");
+  ASSERT_LE(s1["n_clusters"].get<int>(), 6);
+  ASSERT_GT(s1["n_clusters"].get<int>(), 1);
+  const double box = s1["box_length"].get<double>();
+
+  const fs::path second = path("second");
+  std::ostringstream box_text;
+  box_text.precision(17);
+  box_text << box;
+  const Outcome o = run({"run", "-q", "--out", second.string(), "--set", "initial.positions=file", "--set",
+                         "initial.file=" + (first / "final.csv").string(), "--set",
+                         "system.box_length=" + box_text.str()});
+  ASSERT_EQ(o.status, 0) << o.err;
+  const nlohmann::json s2 = read_json(second / "summary.json");
+  EXPECT_EQ(s2["n_particles"], 16);
+  EXPECT_EQ(s2["box_length"].get<double>(), box);
+  EXPECT_EQ(s2["n_clusters"], 1);
+  EXPECT_EQ(s2["mass_total"], s1["mass_total"]);
+  // The glued clusters of the file start as clusters: 16 spheres but at most 6 bodies.
+  EXPECT_LE(s2["merges"].get<int>(), s1["n_clusters"].get<int>() - 1);
+  // The resolved config records the file and reproduces the second run.
+  const fs::path third = path("third");
+  ASSERT_EQ(run({"run", "-q", (second / "config.toml").string(), "--out", third.string()}).status, 0);
+  EXPECT_EQ(slurp(third / "final.csv"), slurp(second / "final.csv"));
+}
+
+TEST_F(Cli, SameSeedGivesByteIdenticalFinalCsv) {
+  const std::vector<std::string> extra{"--seed", "7", "--set", "initial.positions=random", "--set",
+                                       "initial.velocities=gaussian"};
+  ASSERT_EQ(tiny_run(path("a"), extra).status, 0);
+  ASSERT_EQ(tiny_run(path("b"), extra).status, 0);
+  const std::string a = slurp(path("a/final.csv"));
+  EXPECT_GT(a.size(), 100u);
+  EXPECT_EQ(a, slurp(path("b/final.csv")));
+  EXPECT_EQ(slurp(path("a/timeseries.csv")), slurp(path("b/timeseries.csv")));
+}
+
+TEST_F(Cli, DifferentSeedGivesDifferentFinalCsv) {
+  ASSERT_EQ(tiny_run(path("a"), {"--seed", "7"}).status, 0);
+  ASSERT_EQ(tiny_run(path("b"), {"--seed", "8"}).status, 0);
+  EXPECT_NE(slurp(path("a/final.csv")), slurp(path("b/final.csv")));
+  EXPECT_EQ(read_json(path("b/summary.json"))["seed"], 8);
+}
+
+TEST_F(Cli, SeedOptionOverridesTheConfigSeed) {
+  ASSERT_EQ(tiny_run(path("a"), {"--seed", "11"}).status, 0);
+  ASSERT_EQ(tiny_run(path("b"), {"--set", "initial.seed=11"}).status, 0);
+  EXPECT_EQ(slurp(path("a/final.csv")), slurp(path("b/final.csv")));
+  EXPECT_CONTAINS(slurp(path("a/config.toml")), "seed = 11");
+}
+
+TEST_F(Cli, ResolvedConfigTomlReproducesTheRun) {
+  ASSERT_EQ(tiny_run(path("a"), {"--seed", "3", "--set", "collision.outcome=bounce", "--set", "stop.time=2"}).status,
+            0);
+  const Outcome o = run({"run", "-q", path("a/config.toml").string(), "--out", path("b").string()});
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_EQ(slurp(path("a/final.csv")), slurp(path("b/final.csv")));
+  EXPECT_EQ(slurp(path("a/config.toml")), slurp(path("b/config.toml")));
+}
+
+TEST_F(Cli, ConfigCommandPrintsTomlThatCanBeFedBack) {
+  const Outcome first = run({"config", "--set", "system.n=49", "--set", "engine.kind=ed-naive"});
+  ASSERT_EQ(first.status, 0) << first.err;
+  EXPECT_CONTAINS(first.out, "[system]");
+  EXPECT_CONTAINS(first.out, "n = 49");
+  EXPECT_CONTAINS(first.out, "kind = 'ed-naive'");
+  write(path("printed.toml"), first.out);
+
+  const Outcome again = run({"config", path("printed.toml").string()});
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_EQ(again.out, first.out);
+
+  const Outcome ran = run({"run", "-q", path("printed.toml").string(), "--out", path("r").string()});
+  ASSERT_EQ(ran.status, 0) << ran.err;
+  EXPECT_EQ(read_json(path("r/summary.json"))["n_particles"], 49);
+  EXPECT_EQ(read_json(path("r/summary.json"))["engine"], "ed-naive");
+}
+
+TEST_F(Cli, ConfigCommandReportsBadInputLikeRun) {
+  const Outcome o = run({"config", "--set", "system.n=zero"});
+  EXPECT_EQ(o.status, 2);
+  EXPECT_EQ(line_count(o.err), 1);
+  EXPECT_CONTAINS(o.err, "--set system.n");
+  EXPECT_EQ(o.out, "");
+}
+
+// ---------------------------------------------------------------------------------------
+// Bad input: status 2, one line naming the key or the file line, no output directory
+
+TEST_F(Cli, UnknownKeyInConfigFileNamesKeyAndLine) {
+  write(path("cfg.toml"), "[system]\nn = 16\nradiuss = 0.3\n");
+  expect_bad_input({"run", path("cfg.toml").string(), "--out", path("out").string()}, path("out"),
+                   {path("cfg.toml").string() + ":3", "system.radiuss", "radius"});
+}
+
+TEST_F(Cli, UnknownKeyInSetIsBadInput) {
+  expect_bad_input({"run", "--set", "stop.clusterz=3", "--out", path("out").string()}, path("out"),
+                   {"--set stop.clusterz", "clusters"});
+}
+
+TEST_F(Cli, UnknownSectionIsBadInput) {
+  write(path("cfg.toml"), "# c\n\n[sytem]\nn = 16\n");
+  expect_bad_input({"run", path("cfg.toml").string(), "--out", path("out").string()}, path("out"),
+                   {path("cfg.toml").string() + ":3", "[sytem]"});
+}
+
+TEST_F(Cli, BadValueNamesKeyAndWhatIsAllowed) {
+  expect_bad_input({"run", "--set", "system.n=0", "--out", path("out").string()}, path("out"),
+                   {"system.n", "from 1 to"});
+  write(path("cfg.toml"), "[collision]\nrestitution = 1.5\n");
+  expect_bad_input({"run", path("cfg.toml").string(), "--out", path("out").string()}, path("out"),
+                   {path("cfg.toml").string() + ":2", "collision.restitution", "[0, 1]"});
+}
+
+TEST_F(Cli, WrongTypeNamesKeyAndLine) {
+  write(path("cfg.toml"), "[output]\n\nxyz = \"no\"\n");
+  expect_bad_input({"run", path("cfg.toml").string(), "--out", path("out").string()}, path("out"),
+                   {path("cfg.toml").string() + ":3", "output.xyz", "true or false"});
+}
+
+TEST_F(Cli, NonFiniteValueIsBadInput) {
+  expect_bad_input({"run", "--set", "system.radius=nan", "--out", path("out").string()}, path("out"),
+                   {"system.radius"});
+  write(path("cfg.toml"), "[initial]\nspeed = inf\n");
+  expect_bad_input({"run", path("cfg.toml").string(), "--out", path("out").string()}, path("out"),
+                   {path("cfg.toml").string() + ":2", "initial.speed"});
+}
+
+TEST_F(Cli, InvalidTomlSyntaxNamesTheLine) {
+  write(path("cfg.toml"), "[system]\nn = 16\nradius = [\n");
+  expect_bad_input({"run", path("cfg.toml").string(), "--out", path("out").string()}, path("out"),
+                   {path("cfg.toml").string() + ":", "invalid TOML"});
+}
+
+TEST_F(Cli, MalformedSetIsBadInput) {
+  expect_bad_input({"run", "--set", "n=16", "--out", path("out").string()}, path("out"),
+                   {"--set n=16", "section.key=value"});
+  expect_bad_input({"run", "--set", "system.n", "--out", path("out").string()}, path("out"),
+                   {"--set system.n", "section.key=value"});
+}
+
+TEST_F(Cli, ConflictingKeysAreBadInput) {
+  expect_bad_input({"run", "--set", "system.box_length=20", "--set", "system.volume_fraction=0.1", "--out",
+                    path("out").string()},
+                   path("out"), {"system.volume_fraction", "system.box_length"});
+  expect_bad_input({"run", "--set", "initial.positions=file", "--out", path("out").string()}, path("out"),
+                   {"initial.file"});
+}
+
+TEST_F(Cli, ImpossibleLatticePackingIsBadInput) {
+  expect_bad_input({"run", "--set", "system.volume_fraction=0.85", "--out", path("out").string()}, path("out"),
+                   {"initial.positions = \"lattice\"", "system.volume_fraction"});
+}
+
+TEST_F(Cli, VolumeFractionAboveTheDensestPackingIsBadInput) {
+  expect_bad_input({"run", "--set", "system.volume_fraction=0.95", "--out", path("out").string()}, path("out"),
+                   {"system.volume_fraction = 0.95", "0.9069"});
+  expect_bad_input({"run", "--set", "system.dimension=3", "--set", "system.volume_fraction=0.8", "--out",
+                    path("out").string()},
+                   path("out"), {"system.volume_fraction = 0.8", "0.7405"});
+}
+
+TEST_F(Cli, ImpossibleRandomPackingIsBadInput) {
+  expect_bad_input({"run", "--set", "system.n=200", "--set", "initial.positions=random", "--set",
+                    "system.volume_fraction=0.6", "--out", path("out").string()},
+                   path("out"), {"initial.positions = \"random\"", "system.volume_fraction"});
+}
+
+TEST_F(Cli, InputCsvWithOverlappingSpheresNamesBothLines) {
+  write(path("in.csv"),
+        "x,y,vx,vy,radius,mass\n"
+        "1,1,0.1,0,0.5,1\n"
+        "5,5,0,0.1,0.5,1\n"
+        "1.5,1.2,0,0,0.5,1\n");
+  expect_bad_input({"run", "--set", "initial.positions=file", "--set", "initial.file=" + path("in.csv").string(),
+                    "--set", "system.box_length=10", "--out", path("out").string()},
+                   path("out"), {path("in.csv").string() + ":2", "line 4", "overlap"});
+}
+
+TEST_F(Cli, InputCsvGluedClusterWithDisagreeingVelocitiesNamesTheLine) {
+  write(path("in.csv"),
+        "x,y,vx,vy,radius,mass,cluster\n"
+        "# a glued pair\n"
+        "1,1,0.1,0,0.5,1,0\n"
+        "2,1,0.1,0.2,0.5,1,0\n"
+        "5,5,0,0.1,0.5,1,1\n");
+  expect_bad_input({"run", "--set", "initial.positions=file", "--set", "initial.file=" + path("in.csv").string(),
+                    "--set", "system.box_length=10", "--out", path("out").string()},
+                   path("out"), {path("in.csv").string() + ":4", path("in.csv").string() + ":3", "glued"});
+}
+
+TEST_F(Cli, InputCsvWithABadFieldNamesTheLine) {
+  write(path("in.csv"), "x,y,vx,vy,radius,mass\n1,1,0,0,0.5,1\n3,3,0,zero,0.5,1\n");
+  expect_bad_input({"run", "--set", "initial.positions=file", "--set", "initial.file=" + path("in.csv").string(),
+                    "--set", "system.box_length=10", "--out", path("out").string()},
+                   path("out"), {path("in.csv").string() + ":3", "column vy"});
+}
+
+TEST_F(Cli, InputCsvWithZColumnIn2DIsBadInput) {
+  write(path("in.csv"), "x,y,z,vx,vy,vz,radius,mass\n1,1,1,0,0,0,0.5,1\n");
+  expect_bad_input({"run", "--set", "initial.positions=file", "--set", "initial.file=" + path("in.csv").string(),
+                    "--set", "system.box_length=10", "--out", path("out").string()},
+                   path("out"), {path("in.csv").string() + ":1", "'z'"});
+}
+
+TEST_F(Cli, InputCsvOutsideTheWallsIsBadInput) {
+  write(path("in.csv"), "x,y,vx,vy,radius,mass\n1,1,0,0,0.5,1\n9.8,3,0,0,0.5,1\n");
+  expect_bad_input({"run", "--set", "initial.positions=file", "--set", "initial.file=" + path("in.csv").string(),
+                    "--set", "system.box_length=10", "--out", path("out").string()},
+                   path("out"), {path("in.csv").string() + ":3", "does not fit"});
+}
+
+TEST_F(Cli, UnreadableInputFileIsBadInput) {
+  const std::string missing = path("missing.csv").string();
+  expect_bad_input({"run", "--set", "initial.positions=file", "--set", "initial.file=" + missing, "--set",
+                    "system.box_length=10", "--out", path("out").string()},
+                   path("out"), {missing, "cannot read"});
+  fs::create_directories(path("a_directory"));
+  expect_bad_input({"run", "--set", "initial.positions=file", "--set", "initial.file=" + path("a_directory").string(),
+                    "--set", "system.box_length=10", "--out", path("out").string()},
+                   path("out"), {path("a_directory").string(), "cannot read"});
+}
+
+TEST_F(Cli, UnreadableConfigFileIsBadInput) {
+  const std::string missing = path("missing.toml").string();
+  expect_bad_input({"run", missing, "--out", path("out").string()}, path("out"), {missing, "cannot read"});
+  fs::create_directories(path("a_directory"));
+  expect_bad_input({"run", path("a_directory").string(), "--out", path("out").string()}, path("out"),
+                   {path("a_directory").string(), "cannot read"});
+}
+
+TEST_F(Cli, UnknownCommandLineOptionIsBadInput) {
+  expect_bad_input({"run", "--bogus", "--out", path("out").string()}, path("out"), {"--bogus"});
+  expect_bad_input({"frobnicate", "--out", path("out").string()}, path("out"), {"frobnicate"});
+}
+
+TEST_F(Cli, BadSeedIsBadInput) {
+  expect_bad_input({"run", "--seed", "seven", "--out", path("out").string()}, path("out"), {"--seed"});
+  expect_bad_input({"run", "--seed", "-1", "--out", path("out").string()}, path("out"), {"--seed"});
+  // Seeds beyond int64 could not be written back to config.toml.
+  expect_bad_input({"run", "--seed", "18446744073709551615", "--out", path("out").string()}, path("out"),
+                   {"--seed"});
+}
+
+TEST_F(Cli, OutputBelowARegularFileIsBadInput) {
+  // Permission bits do not stop root, but nothing can create a directory below a file.
+  write(path("plain"), "not a directory\n");
+  const fs::path out = path("plain") / "sub";
+  expect_bad_input({"run", "--set", "system.n=16", "--out", out.string()}, out, {"--out " + out.string()});
+  EXPECT_EQ(slurp(path("plain")), "not a directory\n");
+}
+
+TEST_F(Cli, OutputThatIsAnExistingRegularFileIsBadInput) {
+  write(path("plain"), "keep me\n");
+  const Outcome o = run({"run", "--set", "system.n=16", "--out", path("plain").string()});
+  EXPECT_EQ(o.status, 2);
+  EXPECT_EQ(line_count(o.err), 1) << o.err;
+  EXPECT_CONTAINS(o.err, "--out " + path("plain").string());
+  EXPECT_CONTAINS(o.err, "not a directory");
+  EXPECT_TRUE(fs::is_regular_file(path("plain")));
+  EXPECT_EQ(slurp(path("plain")), "keep me\n");
+}
+
+TEST_F(Cli, BadInputCreatesNoParentDirectoriesEither) {
+  const fs::path out = path("deep") / "er" / "out";
+  expect_bad_input({"run", "--set", "system.n=-3", "--out", out.string()}, out, {"system.n"});
+  EXPECT_FALSE(fs::exists(path("deep")));
+}

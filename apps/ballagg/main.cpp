@@ -2,6 +2,8 @@
 // nothing written), 1 any other failure.
 #include <cstdio>
 #include <iostream>
+#include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,7 +43,9 @@ int main(int argc, char** argv) {
   CLI::App* run = app.add_subcommand("run", "Run a simulation and write its results to a directory");
   add_config_args(*run, run_args);
   run->add_option("--out", run_options.out_dir, "Output directory (default: out/<timestamp>)");
-  run->add_option("--seed", seed, "Random seed (overrides initial.seed)");
+  // The resolved config.toml stores the seed as a TOML integer, so it must fit in int64.
+  run->add_option("--seed", seed, "Random seed (overrides initial.seed)")
+      ->check(CLI::Range(std::uint64_t{0}, static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
   run->add_flag("--quiet,-q", run_options.quiet, "No progress output");
 
   ConfigArgs show_args;
@@ -57,6 +61,12 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
+    // CLI11 reports "a subcommand is required" for a misspelt command: name it instead.
+    if (!*run && !*show && argc > 1 && argv[1][0] != '-') {
+      fmt::print(stderr, "ballagg: error: unknown command '{}' (commands: run, config; see ballagg --help)\n",
+                 argv[1]);
+      return kBadInput;
+    }
     fmt::print(stderr, "ballagg: error: {} (see ballagg --help)\n", e.what());
     return kBadInput;
   }

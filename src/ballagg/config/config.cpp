@@ -1,7 +1,6 @@
 #include "ballagg/config/config.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <functional>
 #include <map>
 #include <numbers>
@@ -10,6 +9,8 @@
 
 #include <fmt/format.h>
 #include <toml++/toml.h>
+
+#include "ballagg/io/text_file.hpp"
 
 namespace ballagg {
 namespace {
@@ -23,7 +24,15 @@ class SectionReader {
       : section_(std::move(section)), source_(source), overridden_(overridden) {
     if (const toml::node* node = root.get(section_)) {
       table_ = node->as_table();
-      if (table_ == nullptr) fail(*node, section_, "must be a table ([" + section_ + "])");
+      if (table_ == nullptr) {
+        const std::string where = node->source().begin.line > 0
+                                      ? fmt::format("{}:{}", source_, node->source().begin.line)
+                                      : source_;
+        std::ostringstream type;
+        type << node->type();
+        throw InputError(fmt::format("{}: {} must be a section ([{}]), but it is a value of type {}", where,
+                                     section_, section_, type.str()));
+      }
     }
   }
 
@@ -96,6 +105,7 @@ class SectionReader {
   [[noreturn]] void fail(const toml::node& node, const std::string& key, const std::string& allowed) const {
     std::ostringstream value;
     if (node.is_string()) value << '"' << *node.value<std::string>() << '"';
+    else if (auto d = node.value_exact<double>()) value << fmt::format("{}", *d);  // shortest form: 1e-09
     else if (node.is_value()) node.visit([&](auto&& v) { value << v; });
     else value << "<" << node.type() << ">";
     throw InputError(fmt::format("{}: {}.{} = {}: {}", where(node, key), section_, key, value.str(), allowed));
@@ -160,6 +170,10 @@ Config read_config(const toml::table& root, const std::string& source, const std
     if (!sections.count(std::string(k.str()))) {
       const std::string where = node.source().begin.line > 0 ? fmt::format("{}:{}", source, node.source().begin.line)
                                                              : "--set " + std::string(k.str());
+      if (!node.is_table())
+        throw InputError(fmt::format("{}: key '{}' is outside any section (keys belong in the sections system, "
+                                     "initial, collision, engine, stop, output)",
+                                     where, k.str()));
       throw InputError(fmt::format("{}: unknown section [{}] (sections: system, initial, collision, engine, stop, output)",
                                    where, k.str()));
     }
@@ -262,12 +276,7 @@ Config parse_config_text(std::string_view text, const std::string& source_name, 
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
   if (path.empty()) return parse_config_text("", "(defaults)", overrides);
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot read the config file", path));
-  std::stringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(fmt::format("{}: cannot read the config file", path));
-  return parse_config_text(text.str(), path, overrides);
+  return parse_config_text(read_text_file(path, "config file"), path, overrides);
 }
 
 double resolved_box_length(const Config& c) {

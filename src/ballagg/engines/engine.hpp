@@ -50,6 +50,8 @@ struct EngineCounters {
   std::int64_t bounces = 0;
   std::int64_t wall_bounces = 0;
   std::int64_t list_rebuilds = 0;
+  std::int64_t rebuilt_spheres = 0;    // spheres re-binned by list rebuilds (work measure)
+  std::int64_t pair_predictions = 0;   // contact times computed (work measure)
   std::int64_t queue_peak = 0;
 };
 

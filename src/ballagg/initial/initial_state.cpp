@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <deque>
+#include <limits>
 #include <map>
 #include <numbers>
 
@@ -141,6 +142,33 @@ std::vector<Vec<D>> unwrapped_offsets(const Box<D>& box, const SphereTable<D>& t
   return offset;
 }
 
+// Body-frame positions with every cluster's reference point at the origin: each sphere
+// where the file puts it, except that spheres of a cluster straddling a periodic face are
+// moved by whole box lengths to sit next to their neighbours. Keeping the file's numbers
+// wherever possible makes a state written by ballagg read back bit for bit.
+template <int D>
+std::vector<Vec<D>> body_positions(const Box<D>& box, const SphereTable<D>& t,
+                                   const std::vector<std::vector<int>>& members, const std::vector<Vec<D>>& offset) {
+  if (!box.periodic()) return t.position;
+  const double l = box.length;
+  std::vector<Vec<D>> body(t.position.size());
+  for (const std::vector<int>& group : members) {
+    const int root = group.front();
+    for (int a = 0; a < D; ++a) {
+      // Whole periods that bring the cluster's lowest coordinate into [-L/2, L/2).
+      double lowest = std::numeric_limits<double>::infinity();
+      for (int j : group) lowest = std::min(lowest, t.position[root][a] + offset[j][a]);
+      const double shift = -l * std::floor(lowest / l + 0.5);
+      for (int j : group) {
+        const double unwrapped = t.position[root][a] + offset[j][a] + shift;
+        const double periods = std::nearbyint((unwrapped - t.position[j][a]) / l);
+        body[j][a] = periods == 0.0 ? t.position[j][a] : t.position[j][a] + periods * l;
+      }
+    }
+  }
+  return body;
+}
+
 }  // namespace
 
 template <int D>
@@ -201,7 +229,7 @@ State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table_in) {
 
   State<D> s;
   s.box = box;
-  s.spheres.offset = offset;
+  s.spheres.offset = body_positions(box, t, members, offset);
   s.spheres.radius = t.radius;
   s.spheres.mass = t.mass;
   s.spheres.cluster.assign(label.begin(), label.end());
@@ -210,14 +238,18 @@ State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table_in) {
     Cluster<D>& k = s.clusters[c];
     const int root = members[c].front();
     k.members.assign(members[c].begin(), members[c].end());
-    k.anchor = t.position[root];
+    k.anchor = Vec<D>::Zero();
+    // Glued spheres written by ballagg share one velocity exactly: keep it bit for bit.
+    // Others (equal within kGluedVelocity) move with their mass-weighted mean.
     Vec<D> momentum = Vec<D>::Zero();
     double mass = 0.0;
+    bool identical = true;
     for (int i : members[c]) {
       momentum += t.mass[i] * t.velocity[i];
       mass += t.mass[i];
+      identical = identical && t.velocity[i] == t.velocity[root];
     }
-    k.velocity = members[c].size() == 1 ? t.velocity[root] : Vec<D>(momentum / mass);
+    k.velocity = identical ? t.velocity[root] : Vec<D>(momentum / mass);
     for (int i : members[c]) {
       if ((t.velocity[i] - t.velocity[root]).norm() > tolerance::kGluedVelocity * max_speed) {
         throw InputError(fmt::format("{}: velocity {} differs from {} of the first sphere of its cluster ({}); "

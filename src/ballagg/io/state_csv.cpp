@@ -1,8 +1,8 @@
 #include "ballagg/io/state_csv.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <string_view>
@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "ballagg/config/config.hpp"
+#include "ballagg/io/text_file.hpp"
 
 namespace ballagg {
 namespace {
@@ -48,6 +49,7 @@ SphereTable<D> parse_state_csv(const std::string& text, const std::string& sourc
   std::map<std::string, int> column;  // name -> field index
   std::size_t n_fields = 0;
   bool header_seen = false;
+  int header_line = 0;
   std::istringstream in(text);
   std::string raw;
   for (int line_no = 1; std::getline(in, raw); ++line_no) {
@@ -56,6 +58,7 @@ SphereTable<D> parse_state_csv(const std::string& text, const std::string& sourc
     const std::vector<std::string_view> fields = split(line);
     if (!header_seen) {
       header_seen = true;
+      header_line = line_no;
       n_fields = fields.size();
       for (std::size_t k = 0; k < fields.size(); ++k) {
         const std::string name(fields[k]);
@@ -109,18 +112,14 @@ SphereTable<D> parse_state_csv(const std::string& text, const std::string& sourc
     table.line.push_back(line_no);
   }
   if (!header_seen) throw InputError(fmt::format("{}: empty file (expected a header line {})", source, expected));
-  if (table.radius.empty()) throw InputError(fmt::format("{}: no spheres after the header", source));
+  if (table.radius.empty())
+    throw InputError(fmt::format("{}:{}: no spheres after the header (one line per sphere expected)", source, header_line));
   return table;
 }
 
 template <int D>
 SphereTable<D> read_state_csv(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("{}: cannot read the state file", path));
-  std::stringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(fmt::format("{}: cannot read the state file", path));
-  return parse_state_csv<D>(text.str(), path);
+  return parse_state_csv<D>(read_text_file(path, "state file"), path);
 }
 
 template <int D>

@@ -109,6 +109,8 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   j["bounces"] = r.counters.bounces;
   j["wall_bounces"] = r.counters.wall_bounces;
   j["list_rebuilds"] = r.counters.list_rebuilds;
+  j["rebuilt_spheres"] = r.counters.rebuilt_spheres;
+  j["pair_predictions"] = r.counters.pair_predictions;
   j["event_queue_peak"] = r.counters.queue_peak;
   j["wall_pinnings"] = s.pinnings() - initial.pinnings;
   j["wall_seconds"] = r.wall_seconds;

@@ -1,7 +1,7 @@
 // The exact event-driven engine. One event is one of:
 //   collision     two spheres of different clusters touch: stick (rule 2.9) or bounce (2.6);
 //   wall          a cluster's bounding box touches a wall it moves towards (rule 2.2);
-//   list_rebuild  a cluster has travelled half the skin: its neighbour lists expire.
+//   list_rebuild  a cluster may have moved half the skin: its neighbour lists expire.
 //
 // What must be re-predicted when a cluster's velocity changes? Only the pairs formed by
 // its *exposed* spheres (those with foreign neighbours within sigma + skin) and its own
@@ -11,7 +11,14 @@
 //
 // Why the lists stay valid: a pair absent from the lists was farther apart than
 // sigma + skin at the later of its two clusters' last rebuilds, and since then each sphere
-// has travelled (path length, walls included) at most skin / 2, so the pair is still apart.
+// has moved at most skin / 2 from where it was binned, so the pair is still apart.
+//
+// How far a cluster's spheres may have moved (its drift) is bounded by slack + |d|, where
+// d is the cluster's displacement since a reference instant (walls and periodic wraps
+// included) and slack covers what happened before it. A rebuild sets both to zero. A
+// merge starts a new reference with the larger drift of the two as slack. Displacement
+// rather than path length means a big cluster rattling between walls, or bouncing to and
+// fro, does not rebuild its lists for nothing.
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
 
 #include <algorithm>
@@ -38,12 +45,12 @@ class EventDrivenCore {
         grid_(state.box, 2.0 * state.max_radius() + 1.5 * skin_, state.n_spheres()) {
     const int n = s_.n_spheres();
     const int m = static_cast<int>(s_.clusters.size());
-    travel_base_.assign(m, 0.0);
+    drift_.assign(m, Drift{});
     lists_.reset(n, m);
     calendar_.reset(m);
     for (int i = 0; i < n; ++i) grid_.insert(i, s_.position(i, s_.time));
     for (int c = 0; c < m; ++c)
-      if (s_.clusters[c].alive()) travel_base_[c] = -travelled_since_anchor(c, s_.time);
+      if (s_.clusters[c].alive()) reset_drift(c, s_.time);
     for (int i = 0; i < n; ++i) find_partners(i, s_.time, /*only_higher=*/true);
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) predict(c, /*skip_lower_clusters=*/true);
@@ -89,19 +96,33 @@ class EventDrivenCore {
 
   // ---- neighbour lists -------------------------------------------------------------------
 
-  double travelled_since_anchor(int c, double t) const {
+  Vec<D> displacement(int c, double t) const {
     const Cluster<D>& k = s_.clusters[c];
-    return k.velocity.norm() * (t - k.anchor_time);
+    return drift_[c].displacement_at_anchor + (t - k.anchor_time) * k.velocity;
   }
-  double travelled(int c, double t) const { return travel_base_[c] + travelled_since_anchor(c, t); }
-  // Must be called just before cluster c is re-anchored at t (velocity change or merge).
-  void fold_travel(int c, double t) { travel_base_[c] = travelled(c, t); }
+  // Upper bound on how far any sphere of cluster c is from where it was binned.
+  double drift(int c, double t) const { return drift_[c].slack + displacement(c, t).norm(); }
+  // Must be called just before cluster c is re-anchored at t (velocity change).
+  void fold_drift(int c, double t) { drift_[c].displacement_at_anchor = displacement(c, t); }
+  void reset_drift(int c, double t) {
+    const Cluster<D>& k = s_.clusters[c];
+    drift_[c] = {-(t - k.anchor_time) * k.velocity, 0.0};
+  }
 
+  // When the drift of cluster c reaches skin / 2: the later root tau of
+  // |d0 + V tau| = skin / 2 - slack (tau from the anchor time). The cluster is within
+  // reach now, so the two roots bracket the present and the later one is the exit.
   double rebuild_time(int c) const {
     const Cluster<D>& k = s_.clusters[c];
-    const double speed = k.velocity.norm();
-    if (speed == 0.0) return kNever;
-    return k.anchor_time + (0.5 * skin_ - travel_base_[c]) / speed;
+    const double a = k.velocity.squaredNorm();
+    if (a == 0.0) return kNever;
+    const Vec<D>& d0 = drift_[c].displacement_at_anchor;
+    const double reach = 0.5 * skin_ - drift_[c].slack;
+    const double b = d0.dot(k.velocity), cc = d0.squaredNorm() - reach * reach;
+    const double disc = b * b - a * cc;
+    if (reach <= 0.0 || disc < 0.0) return k.anchor_time;
+    const double root = std::sqrt(disc);
+    return k.anchor_time + (b <= 0.0 ? (root - b) / a : -cc / (b + root));
   }
 
   // Lists sphere i against every foreign sphere within sigma + skin at time t. The grid
@@ -129,8 +150,9 @@ class EventDrivenCore {
     for (int i : was_exposed) lists_.remove_all_pairs(i, cluster);
     const Cluster<D>& k = s_.clusters[c];
     for (int i : k.members) grid_.move(i, s_.position(i, t));
+    count_.rebuilt_spheres += k.size();
     for (int i : k.members) find_partners(i, t, /*only_higher=*/false);
-    travel_base_[c] = -travelled_since_anchor(c, t);
+    reset_drift(c, t);
     s_.renew_stamp(c);
     predict(c);
     ++count_.list_rebuilds;
@@ -155,6 +177,7 @@ class EventDrivenCore {
         const int d = cluster[j];
         if (d == skip_cluster || (skip_lower_clusters && d < c)) continue;
         const double t = predicted_contact(s_, i, j);
+        ++count_.pair_predictions;
         if (t >= horizon || t >= rebuild_time(d)) continue;
         const int lo = std::min(i, j), hi = std::max(i, j);
         batch_.push_back({t, lo, hi, s_.cluster_of(lo).stamp, s_.cluster_of(hi).stamp, EventKind::collision});
@@ -167,7 +190,7 @@ class EventDrivenCore {
   // ---- event handlers --------------------------------------------------------------------
 
   EventRecord reflect(int c, int axis, double t) {
-    fold_travel(c, t);
+    fold_drift(c, t);
     reflect_cluster(s_, c, axis, t);
     predict(c);
     ++count_.wall_bounces;
@@ -179,8 +202,8 @@ class EventDrivenCore {
     EventRecord r{.time = t, .kind = EventKind::collision, .sphere_i = i, .sphere_j = j};
     const int a = s_.spheres.cluster[i], b = s_.spheres.cluster[j];
     if (law_.outcome == CollisionOutcome::bounce) {
-      fold_travel(a, t);
-      fold_travel(b, t);
+      fold_drift(a, t);
+      fold_drift(b, t);
       bounce_clusters(s_, i, j, t, law_);
       predict(a);
       predict(b, false, a);
@@ -202,12 +225,12 @@ class EventDrivenCore {
 
   int stick(int i, int j, double t) {
     const int a = s_.spheres.cluster[i], b = s_.spheres.cluster[j];
-    const double budget_used = std::max(travelled(a, t), travelled(b, t));
+    const double slack = std::max(drift(a, t), drift(b, t));
     const int keep = s_.merge(i, j, t);
     const int gone = keep == a ? b : a;
     lists_.absorb(keep, gone, s_.spheres.cluster.data());
     calendar_.forget(gone);
-    travel_base_[keep] = budget_used;
+    drift_[keep] = {Vec<D>::Zero(), slack};
     ++count_.merges;
     return keep;
   }
@@ -232,7 +255,11 @@ class EventDrivenCore {
   NeighborLists lists_;
   EventCalendar calendar_;
   std::vector<Event> batch_;         // scratch for predict()
-  std::vector<double> travel_base_;  // path length travelled by a cluster at its anchor time
+  struct Drift {
+    Vec<D> displacement_at_anchor = Vec<D>::Zero();  // since the reference instant
+    double slack = 0.0;                               // drift before the reference instant
+  };
+  std::vector<Drift> drift_;
   EngineCounters count_;
 };
 

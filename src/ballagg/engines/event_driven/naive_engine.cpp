@@ -28,8 +28,10 @@ class NaiveCore {
     const std::int32_t* cluster = s_.spheres.cluster.data();
     for (int i = 0; i < n; ++i)
       for (int j = i + 1; j < n; ++j)
-        if (cluster[i] != cluster[j])
+        if (cluster[i] != cluster[j]) {
           consider({predicted_contact(s_, i, j), i, j, 0, 0, EventKind::collision});
+          ++count_.pair_predictions;
+        }
     for (int c : s_.alive_clusters()) {
       const WallContact w = next_wall_contact(s_, c);
       consider({w.time, c, w.axis, 0, 0, EventKind::wall});
