@@ -3,6 +3,8 @@
 // every event, and exhaustive checks of the physics invariants.
 #include <cmath>
 #include <functional>
+#include <sstream>
+#include <string>
 #include <type_traits>
 #include <vector>
 
@@ -11,6 +13,7 @@
 #include "ballagg/config/config.hpp"
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
 #include "ballagg/initial/initial_state.hpp"
+#include "ballagg/io/timeseries.hpp"
 #include "ballagg/run/simulation.hpp"
 
 namespace ballagg::testing {

@@ -280,7 +280,7 @@ TEST_F(Cli, ConfigCommandPrintsTomlThatCanBeFedBack) {
   ASSERT_EQ(first.status, 0) << first.err;
   EXPECT_CONTAINS(first.out, "[system]");
   EXPECT_CONTAINS(first.out, "n = 49");
-  EXPECT_CONTAINS(first.out, "kind = 'ed-naive'");
+  EXPECT_CONTAINS(first.out, "kind = \"ed-naive\"");
   write(path("printed.toml"), first.out);
 
   const Outcome again = run({"config", path("printed.toml").string()});

@@ -10,15 +10,48 @@
 
 namespace ballagg {
 
-// Absolute time at which spheres i and j (of different clusters) touch, or kNever.
+// With periodic faces, a pair meets through whichever image its relative trajectory
+// reaches first, which need not be the nearest image at the time of the prediction. The
+// walk over images gives up after this many boxes crossed (a trajectory that passes that
+// many images without touching one is treated as never touching).
+inline constexpr int kMaxImagesWalked = 10000;
+
+// Absolute time at which spheres i and j (of different clusters) first touch, or kNever.
+// `now` is the present time and `limit` a time after which the answer is not needed
+// (kNever may then be returned). The value returned for a contact before `limit` does not
+// depend on `now` or `limit`: both event-driven engines compute it bit for bit alike.
 template <int D>
-double predicted_contact(const State<D>& s, int i, int j) {
+double predicted_contact(const State<D>& s, int i, int j, double now, double limit = kNever) {
   const Cluster<D>& ci = s.cluster_of(i);
   const Cluster<D>& cj = s.cluster_of(j);
   const double t0 = std::max(ci.anchor_time, cj.anchor_time);
-  const Vec<D> dx = s.box.separation(s.unwrapped_position(i, t0), s.unwrapped_position(j, t0));
-  const double dt = contact_time<D>(dx, ci.velocity - cj.velocity, s.spheres.radius[i] + s.spheres.radius[j]);
-  return t0 + dt;
+  const Vec<D> dx = s.unwrapped_position(i, t0) - s.unwrapped_position(j, t0);
+  const Vec<D> dv = ci.velocity - cj.velocity;
+  const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
+  if (!s.box.periodic()) return t0 + contact_time<D>(dx, dv, sigma);
+
+  // Walk the images k L in the order the relative position dx + dv t passes through the
+  // boxes of side L around them, from the box it is in now. A contact with image k happens
+  // inside its box (sigma < L / 2), so the first image with a contact is the earliest.
+  const double length = s.box.length;
+  Vec<D> k;
+  for (int a = 0; a < D; ++a) k[a] = std::nearbyint((dx[a] + dv[a] * (now - t0)) / length);
+  for (int step = 0; step < kMaxImagesWalked; ++step) {
+    const Vec<D> image = dx - length * k;
+    const double dt = contact_time<D>(image, dv, sigma);
+    if (dt < kNever) return t0 + dt;
+    double exit = kNever;
+    int axis = -1;
+    for (int a = 0; a < D; ++a) {
+      if (dv[a] == 0.0) continue;
+      const double face = dv[a] > 0.0 ? 0.5 * length : -0.5 * length;
+      const double t = (face - image[a]) / dv[a];
+      if (t < exit) exit = t, axis = a;
+    }
+    if (axis < 0 || t0 + exit > limit) return kNever;
+    k[axis] += dv[axis] > 0.0 ? 1.0 : -1.0;
+  }
+  return kNever;
 }
 
 struct WallContact {

@@ -1,13 +1,17 @@
 #include "ballagg/config/config.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <numbers>
 #include <set>
 #include <sstream>
+#include <variant>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
 #include "ballagg/io/text_file.hpp"
@@ -276,7 +280,15 @@ Config parse_config_text(std::string_view text, const std::string& source_name, 
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
   if (path.empty()) return parse_config_text("", "(defaults)", overrides);
-  return parse_config_text(read_text_file(path, "config file"), path, overrides);
+  Config c = parse_config_text(read_text_file(path, "config file"), path, overrides);
+  // A relative initial.file written in a config file is relative to that file; one given
+  // with --set is relative to the working directory.
+  const bool from_set = std::any_of(overrides.begin(), overrides.end(),
+                                    [](const std::string& o) { return o.rfind("initial.file=", 0) == 0; });
+  const std::filesystem::path file(c.initial.file);
+  if (!c.initial.file.empty() && !from_set && file.is_relative())
+    c.initial.file = (std::filesystem::path(path).parent_path() / file).lexically_normal().string();
+  return c;
 }
 
 double resolved_box_length(const Config& c) {
@@ -300,40 +312,80 @@ std::string_view to_string(CollisionOutcome o) { return o == CollisionOutcome::s
 
 namespace {
 
-toml::table to_table(const Config& c) {
-  auto str = [](std::string_view s) { return std::string(s); };
-  toml::table system{{"dimension", c.system.dimension}, {"n", c.system.n}, {"radius", c.system.radius},
-                     {"mass", c.system.mass}, {"boundary", str(to_string(c.system.boundary))}};
-  if (c.system.volume_fraction) system.insert("volume_fraction", *c.system.volume_fraction);
-  if (c.system.box_length) system.insert("box_length", *c.system.box_length);
-  toml::table initial{{"positions", str(to_string(c.initial.positions))},
-                      {"velocities", str(to_string(c.initial.velocities))},
-                      {"speed", c.initial.speed},
-                      {"zero_momentum", c.initial.zero_momentum},
-                      {"seed", static_cast<std::int64_t>(c.initial.seed)}};
-  if (!c.initial.file.empty()) initial.insert("file", c.initial.file);
-  toml::table collision{{"outcome", str(to_string(c.collision.outcome))}, {"restitution", c.collision.restitution}};
-  if (c.collision.tc_time) collision.insert("tc_time", *c.collision.tc_time);
-  toml::table engine{{"kind", str(to_string(c.engine.kind))}};
-  if (c.engine.skin) engine.insert("skin", *c.engine.skin);
-  toml::table stop{{"clusters", c.stop.clusters}, {"time", c.stop.time}, {"wall_seconds", c.stop.wall_seconds}};
-  toml::table output{{"timeseries_interval", c.output.timeseries_interval}, {"xyz", c.output.xyz}};
-  return toml::table{{"system", system}, {"initial", initial}, {"collision", collision},
-                     {"engine", engine}, {"stop", stop},     {"output", output}};
+// The resolved configuration as ordered sections of (key, value), the single source of
+// both the TOML and the JSON rendering.
+using Value = std::variant<std::int64_t, double, bool, std::string>;
+using Section = std::pair<std::string, std::vector<std::pair<std::string, Value>>>;
+
+std::vector<Section> entries(const Config& c) {
+  auto str = [](std::string_view v) { return Value(std::string(v)); };
+  Section system{"system", {{"dimension", std::int64_t{c.system.dimension}}, {"n", c.system.n}}};
+  if (c.system.volume_fraction) system.second.push_back({"volume_fraction", *c.system.volume_fraction});
+  if (c.system.box_length) system.second.push_back({"box_length", *c.system.box_length});
+  system.second.push_back({"radius", c.system.radius});
+  system.second.push_back({"mass", c.system.mass});
+  system.second.push_back({"boundary", str(to_string(c.system.boundary))});
+  Section initial{"initial",
+                  {{"positions", str(to_string(c.initial.positions))},
+                   {"velocities", str(to_string(c.initial.velocities))},
+                   {"speed", c.initial.speed}}};
+  if (!c.initial.file.empty()) initial.second.push_back({"file", c.initial.file});
+  initial.second.push_back({"zero_momentum", c.initial.zero_momentum});
+  initial.second.push_back({"seed", static_cast<std::int64_t>(c.initial.seed)});
+  Section collision{"collision", {{"outcome", str(to_string(c.collision.outcome))}, {"restitution", c.collision.restitution}}};
+  if (c.collision.tc_time) collision.second.push_back({"tc_time", *c.collision.tc_time});
+  Section engine{"engine", {{"kind", str(to_string(c.engine.kind))}}};
+  if (c.engine.skin) engine.second.push_back({"skin", *c.engine.skin});
+  Section stop{"stop", {{"clusters", c.stop.clusters}, {"time", c.stop.time}, {"wall_seconds", c.stop.wall_seconds}}};
+  Section output{"output", {{"timeseries_interval", c.output.timeseries_interval}, {"xyz", c.output.xyz}}};
+  return {system, initial, collision, engine, stop, output};
+}
+
+std::string toml_value(const Value& v) {
+  if (auto i = std::get_if<std::int64_t>(&v)) return fmt::format("{}", *i);
+  if (auto b = std::get_if<bool>(&v)) return *b ? "true" : "false";
+  if (auto d = std::get_if<double>(&v)) {
+    if (std::isinf(*d)) return *d > 0 ? "inf" : "-inf";
+    std::string text = fmt::format("{}", *d);  // shortest form that reads back exactly
+    if (text.find_first_of(".e") == std::string::npos) text += ".0";
+    return text;
+  }
+  std::string quoted = "\"";
+  for (char ch : std::get<std::string>(v)) {
+    if (ch == '"' || ch == '\\') quoted += '\\';
+    if (static_cast<unsigned char>(ch) < 0x20) quoted += fmt::format("\\u{:04x}", static_cast<int>(ch));
+    else quoted += ch;
+  }
+  return quoted + "\"";
 }
 
 }  // namespace
 
 std::string to_toml_text(const Config& c) {
-  std::ostringstream out;
-  out << to_table(c) << '\n';
-  return out.str();
+  std::string out;
+  for (const auto& [section, keys] : entries(c)) {
+    out += fmt::format("{}[{}]\n", out.empty() ? "" : "\n", section);
+    for (const auto& [key, value] : keys) out += fmt::format("{} = {}\n", key, toml_value(value));
+  }
+  return out;
 }
 
 std::string to_json_text(const Config& c) {
-  std::ostringstream out;
-  out << toml::json_formatter{to_table(c)};
-  return out.str();
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  for (const auto& [section, keys] : entries(c)) {
+    nlohmann::ordered_json& js = j[section];
+    js = nlohmann::ordered_json::object();
+    for (const auto& [key, value] : keys) {
+      std::visit([&](const auto& v) {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, double>) {
+          if (std::isinf(v)) { js[key] = nullptr; return; }  // JSON has no infinity
+        }
+        js[key] = v;
+      }, value);
+    }
+  }
+  return j.dump(2);
 }
 
 }  // namespace ballagg

@@ -74,14 +74,6 @@ nlohmann::json vector_json(const Vec<D>& v) {
   return a;
 }
 
-// JSON has no infinity: unlimited stop criteria appear as null.
-nlohmann::ordered_json config_json(const Config& c) {
-  nlohmann::ordered_json j = nlohmann::ordered_json::parse(to_json_text(c));
-  if (std::isinf(c.stop.time)) j["stop"]["time"] = nullptr;
-  if (std::isinf(c.stop.wall_seconds)) j["stop"]["wall_seconds"] = nullptr;
-  return j;
-}
-
 template <int D>
 struct Totals {
   Vec<D> momentum;
@@ -124,7 +116,7 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   j["max_overlap"] = overlap ? nlohmann::ordered_json(*overlap) : nlohmann::ordered_json(nullptr);
   j["seed"] = c.initial.seed;
   j["version"] = kVersion;
-  j["config"] = config_json(c);
+  j["config"] = nlohmann::ordered_json::parse(to_json_text(c));
   return j.dump(2) + "\n";
 }
 

@@ -176,9 +176,10 @@ class EventDrivenCore {
       for (int j : lists_.partners(i)) {
         const int d = cluster[j];
         if (d == skip_cluster || (skip_lower_clusters && d < c)) continue;
-        const double t = predicted_contact(s_, i, j);
+        const double limit = std::min(horizon, rebuild_time(d));
+        const double t = predicted_contact(s_, i, j, s_.time, limit);
         ++count_.pair_predictions;
-        if (t >= horizon || t >= rebuild_time(d)) continue;
+        if (t >= limit) continue;
         const int lo = std::min(i, j), hi = std::max(i, j);
         batch_.push_back({t, lo, hi, s_.cluster_of(lo).stamp, s_.cluster_of(hi).stamp, EventKind::collision});
       }

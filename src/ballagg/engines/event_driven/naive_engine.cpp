@@ -29,7 +29,8 @@ class NaiveCore {
     for (int i = 0; i < n; ++i)
       for (int j = i + 1; j < n; ++j)
         if (cluster[i] != cluster[j]) {
-          consider({predicted_contact(s_, i, j), i, j, 0, 0, EventKind::collision});
+          const double limit = best ? best->time : kNever;
+          consider({predicted_contact(s_, i, j, s_.time, limit), i, j, 0, 0, EventKind::collision});
           ++count_.pair_predictions;
         }
     for (int c : s_.alive_clusters()) {

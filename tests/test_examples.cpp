@@ -1,0 +1,54 @@
+// Every configuration in examples/ is valid and runs (shrunk to a few hundred spheres).
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "support.hpp"
+
+namespace ballagg {
+namespace {
+
+template <int D>
+void run_shrunk(const Config& given) {
+  State<D> s = make_initial_state<D>(given);
+  const Config c = resolve_defaults(given, s);
+  StopCriteria stop = stop_criteria(c);
+  stop.wall_seconds = 20;
+  const RunResult r = make_engine<D>(c)->run(s, stop, *std::make_unique<RunObserver<D>>());
+  EXPECT_NE(r.reason, StopReason::wall_seconds);
+  EXPECT_LE(testing::worst_overlap(s), 1e-9);
+}
+
+TEST(Examples, EveryExampleConfigurationLoadsAndRuns) {
+  int seen = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(BALLAGG_SOURCE_DIR) + "/examples")) {
+    if (entry.path().extension() != ".toml") continue;
+    SCOPED_TRACE(entry.path().string());
+    Config c = load_config(entry.path().string(), {});
+    if (c.initial.positions != InitialPositions::file) {
+      const double vf = c.system.volume_fraction.value_or(kDefaultVolumeFraction);
+      c.system.n = std::min<std::int64_t>(c.system.n, 300);
+      c.system.volume_fraction = vf;
+      c.stop.clusters = std::min<std::int64_t>(c.stop.clusters, 300);
+    }
+    if (c.system.dimension == 2) run_shrunk<2>(c); else run_shrunk<3>(c);
+    ++seen;
+  }
+  EXPECT_GE(seen, 5);
+}
+
+TEST(Examples, DefaultExampleIsTheBuiltInDefault) {
+  const Config file = load_config(std::string(BALLAGG_SOURCE_DIR) + "/examples/default.toml", {});
+  EXPECT_EQ(to_toml_text(file), to_toml_text(load_config("", {})));
+}
+
+TEST(Examples, RelativeStateFileIsFoundNextToTheConfig) {
+  const Config c = load_config(std::string(BALLAGG_SOURCE_DIR) + "/examples/from_file.toml", {});
+  EXPECT_TRUE(std::filesystem::exists(c.initial.file)) << c.initial.file;
+  const State<2> s = make_initial_state<2>(c);
+  EXPECT_EQ(s.n_spheres(), 8);
+  EXPECT_EQ(s.n_clusters(), 5);
+}
+
+}  // namespace
+}  // namespace ballagg
