@@ -46,12 +46,14 @@ class EventDrivenCore {
     const int n = s_.n_spheres();
     const int m = static_cast<int>(s_.clusters.size());
     drift_.assign(m, Drift{});
+    rebuild_at_.assign(m, kNever);
     lists_.reset(n, m);
     calendar_.reset(m);
     for (int i = 0; i < n; ++i) grid_.insert(i, s_.position(i, s_.time));
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) reset_drift(c, s_.time);
     for (int i = 0; i < n; ++i) find_partners(i, s_.time, /*only_higher=*/true);
+    for (int c : s_.alive_clusters()) rebuild_at_[c] = rebuild_time(c);
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) predict(c, /*skip_lower_clusters=*/true);
   }
@@ -169,14 +171,14 @@ class EventDrivenCore {
     batch_.clear();
     const WallContact w = next_wall_contact(s_, c);
     if (w.time < kNever) batch_.push_back({w.time, c, w.axis, k.stamp, 0, EventKind::wall});
-    const double horizon = rebuild_time(c);
+    const double horizon = rebuild_at_[c] = rebuild_time(c);
     if (horizon < kNever) batch_.push_back({horizon, c, 0, k.stamp, 0, EventKind::list_rebuild});
     const std::int32_t* cluster = s_.spheres.cluster.data();
     for (int i : lists_.exposed(c)) {
       for (int j : lists_.partners(i)) {
         const int d = cluster[j];
         if (d == skip_cluster || (skip_lower_clusters && d < c)) continue;
-        const double limit = std::min(horizon, rebuild_time(d));
+        const double limit = std::min(horizon, rebuild_at_[d]);
         const double t = predicted_contact(s_, i, j, s_.time, limit);
         ++count_.pair_predictions;
         if (t >= limit) continue;
@@ -261,6 +263,8 @@ class EventDrivenCore {
     double slack = 0.0;                               // drift before the reference instant
   };
   std::vector<Drift> drift_;
+  // rebuild_time(c) as of c's last prediction: every change of c is followed by predict(c).
+  std::vector<double> rebuild_at_;
   EngineCounters count_;
 };
 
