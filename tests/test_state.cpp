@@ -69,3 +69,26 @@ TEST(State, TotalsSumOverClusters) {
 
 }  // namespace
 }  // namespace ballagg
+
+namespace ballagg {
+namespace {
+
+TEST(Box, RoundingHelpersMatchTheLibrary) {
+  for (double x : {0.0, 0.49999999999999994, 0.5, 1.5, 2.5, -0.5, -1.5, -2.4999, 3.7, -3.7, 1e6 + 0.5, -1e-300, 123456.499}) {
+    EXPECT_EQ(round_to_integer(x), std::nearbyint(x)) << x;
+    EXPECT_EQ(floor_to_integer(x), std::floor(x)) << x;
+  }
+}
+
+TEST(Box, PeriodicFoldAndMinimumImage) {
+  const Box<2> box{10.0, Boundary::periodic};
+  EXPECT_DOUBLE_EQ(box.wrap(-0.25), 9.75);
+  EXPECT_DOUBLE_EQ(box.wrap(23.5), 3.5);
+  EXPECT_EQ(box.wrap(-1e-17), 0.0);  // would round to exactly L
+  const Vec<2> d = box.separation(Vec<2>(0.5, 9.0), Vec<2>(9.5, 1.0));
+  EXPECT_DOUBLE_EQ(d[0], 1.0);
+  EXPECT_DOUBLE_EQ(d[1], -2.0);
+}
+
+}  // namespace
+}  // namespace ballagg

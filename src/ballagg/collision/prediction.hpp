@@ -35,7 +35,7 @@ double predicted_contact(const State<D>& s, int i, int j, double now, double lim
   // inside its box (sigma < L / 2), so the first image with a contact is the earliest.
   const double length = s.box.length;
   Vec<D> k;
-  for (int a = 0; a < D; ++a) k[a] = std::nearbyint((dx[a] + dv[a] * (now - t0)) / length);
+  for (int a = 0; a < D; ++a) k[a] = round_to_integer((dx[a] + dv[a] * (now - t0)) / length);
   for (int step = 0; step < kMaxImagesWalked; ++step) {
     const Vec<D> image = dx - length * k;
     const double dt = contact_time<D>(image, dv, sigma);

@@ -83,9 +83,6 @@ class State {
   // with the lower id on a tie) survives and is returned; the other is left empty.
   int merge(int i, int j, double t);
 
-  // Invalidates every prediction made for cluster c without changing its motion.
-  void renew_stamp(int c) { clusters[c].stamp = new_stamp(); }
-
   // True when cluster c spans the box along axis a (walls only): it cannot move along a.
   bool pinned(int c, int a) const;
 

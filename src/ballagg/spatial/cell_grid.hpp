@@ -68,9 +68,8 @@ class CellGrid {
   }
 
  private:
-  int coordinate(double x) const {
-    return std::clamp(static_cast<int>(std::floor(x / cell_size_)), 0, per_side_ - 1);
-  }
+  // Truncation equals floor for x >= 0; points a round-off outside the box are clamped.
+  int coordinate(double x) const { return std::clamp(static_cast<int>(x / cell_size_), 0, per_side_ - 1); }
   std::int32_t cell_index(const Vec<D>& p) const {
     std::int64_t cell = 0;
     for (int a = D - 1; a >= 0; --a) cell = cell * per_side_ + coordinate(p[a]);

@@ -28,6 +28,19 @@ class NeighborLists {
     add_partner(j, i, cluster_of);
   }
 
+  bool listed(int i, int j) const {
+    for (std::int32_t p : partners_[i])
+      if (p == j) return true;
+    return false;
+  }
+
+  void remove_pair(int i, int j, const std::int32_t* cluster_of) {
+    erase_partner(i, j);
+    if (partners_[i].empty()) unexpose(i, cluster_of[i]);
+    erase_partner(j, i);
+    if (partners_[j].empty()) unexpose(j, cluster_of[j]);
+  }
+
   void remove_all_pairs(int i, const std::int32_t* cluster_of) {
     for (std::int32_t j : partners_[i]) {
       erase_partner(j, i);

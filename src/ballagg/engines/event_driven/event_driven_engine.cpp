@@ -9,6 +9,11 @@
 // recognised by its stamps when it reaches the top of the queue. Positions are evaluated
 // lazily from each cluster's anchor, so moving a cluster costs nothing.
 //
+// A list rebuild changes no motion: it drops the pairs now out of reach, adds and
+// predicts the new ones, and keeps every prediction already made (they are exact
+// predictions whatever the lists say). Pair predictions are therefore never cut off at a
+// rebuild horizon.
+//
 // Why the lists stay valid: a pair absent from the lists was farther apart than
 // sigma + skin at the later of its two clusters' last rebuilds, and since then each sphere
 // has moved at most skin / 2 from where it was binned, so the pair is still apart.
@@ -52,7 +57,10 @@ class EventDrivenCore {
     for (int i = 0; i < n; ++i) grid_.insert(i, s_.position(i, s_.time));
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) reset_drift(c, s_.time);
-    for (int i = 0; i < n; ++i) find_partners(i, s_.time, /*only_higher=*/true);
+    for (int i = 0; i < n; ++i)
+      for_each_foreign_near(i, s_.time, [&](int j) {
+        if (j > i) lists_.add_pair(i, j, s_.spheres.cluster.data());
+      });
     for (int c : s_.alive_clusters()) rebuild_at_[c] = rebuild_time(c);
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) predict(c, /*skip_lower_clusters=*/true);
@@ -127,10 +135,11 @@ class EventDrivenCore {
     return k.anchor_time + (b <= 0.0 ? (root - b) / a : -cc / (b + root));
   }
 
-  // Lists sphere i against every foreign sphere within sigma + skin at time t. The grid
-  // holds each sphere where it was binned, at most skin / 2 from where it is now, so
-  // spheres binned farther than R_i + R_max + 1.5 skin away are rejected at once.
-  void find_partners(int i, double t, bool only_higher) {
+  // Calls found(j) for every foreign sphere j within sigma + skin of sphere i at time t.
+  // The grid holds each sphere where it was binned, at most skin / 2 from where it is now,
+  // so spheres binned farther than R_i + R_max + 1.5 skin away are rejected at once.
+  template <class Found>
+  void for_each_foreign_near(int i, double t, Found&& found) const {
     const std::int32_t* cluster = s_.spheres.cluster.data();
     const int ci = cluster[i];
     const Vec<D> xi = s_.unwrapped_position(i, t);
@@ -139,51 +148,78 @@ class EventDrivenCore {
     const double binned_reach = ri + s_.max_radius() + 1.5 * skin_;
     grid_.for_each_near(xi_folded, [&](int j, const Vec<D>& binned) {
       if (s_.box.separation(xi_folded, binned).squaredNorm() >= binned_reach * binned_reach) return;
-      if (cluster[j] == ci || (only_higher && j < i)) return;
-      const double reach = ri + s_.spheres.radius[j] + skin_;
-      if (s_.box.separation(xi, s_.unwrapped_position(j, t)).squaredNorm() < reach * reach)
-        lists_.add_pair(i, j, cluster);
+      if (cluster[j] == ci) return;
+      if (within_reach(i, xi, j, t)) found(j);
     });
+  }
+
+  bool within_reach(int i, const Vec<D>& xi, int j, double t) const {
+    const double reach = s_.spheres.radius[i] + s_.spheres.radius[j] + skin_;
+    return s_.box.separation(xi, s_.unwrapped_position(j, t)).squaredNorm() < reach * reach;
   }
 
   EventRecord rebuild(int c, double t) {
     const std::int32_t* cluster = s_.spheres.cluster.data();
-    const std::vector<std::int32_t> was_exposed = lists_.exposed(c);
-    for (int i : was_exposed) lists_.remove_all_pairs(i, cluster);
     const Cluster<D>& k = s_.clusters[c];
+    // Drop the pairs that are now out of reach. Removal swaps the last entry of a list
+    // into the hole, so walking each list from its end visits every entry once.
+    for (auto e = static_cast<std::ptrdiff_t>(lists_.exposed(c).size()) - 1; e >= 0; --e) {
+      const int i = lists_.exposed(c)[e];
+      const Vec<D> xi = s_.unwrapped_position(i, t);
+      for (auto p = static_cast<std::ptrdiff_t>(lists_.partners(i).size()) - 1; p >= 0; --p) {
+        const int j = lists_.partners(i)[p];
+        if (!within_reach(i, xi, j, t)) lists_.remove_pair(i, j, cluster);
+      }
+    }
+    // Re-bin, then list and predict the pairs that came into reach.
     for (int i : k.members) grid_.move(i, s_.position(i, t));
-    count_.rebuilt_spheres += k.size();
-    for (int i : k.members) find_partners(i, t, /*only_higher=*/false);
     reset_drift(c, t);
-    s_.renew_stamp(c);
-    predict(c);
+    rebuild_at_[c] = rebuild_time(c);
+    batch_.clear();
+    for (int i : k.members) {
+      for_each_foreign_near(i, t, [&](int j) {
+        if (lists_.listed(i, j)) return;
+        lists_.add_pair(i, j, cluster);
+        if (auto e = pair_event(i, j)) batch_.push_back(*e);
+      });
+    }
+    if (rebuild_at_[c] < kNever) batch_.push_back({rebuild_at_[c], c, 0, k.stamp, 0, EventKind::list_rebuild});
+    calendar_.file(c, batch_);
+    count_.rebuilt_spheres += k.size();
     ++count_.list_rebuilds;
     return {.time = t, .kind = EventKind::list_rebuild, .cluster = c};
   }
 
   // ---- predictions -----------------------------------------------------------------------
 
+  // The contact event of spheres i and j (different clusters), if they approach. The
+  // periodic image walk stops at the earlier list rebuild of the two clusters: a contact
+  // through a farther image needs the pair to leave and re-enter the lists first.
+  std::optional<Event> pair_event(int i, int j) {
+    const int ci = s_.spheres.cluster[i], cj = s_.spheres.cluster[j];
+    const double limit = std::min(rebuild_at_[ci], rebuild_at_[cj]);
+    const double t = predicted_contact(s_, i, j, s_.time, limit);
+    ++count_.pair_predictions;
+    if (t == kNever) return std::nullopt;
+    const int lo = std::min(i, j), hi = std::max(i, j);
+    return Event{t, lo, hi, s_.cluster_of(lo).stamp, s_.cluster_of(hi).stamp, EventKind::collision};
+  }
+
   // Files the next wall contact, list rebuild and pair contacts of cluster c, replacing
-  // everything filed under c before (all of it involved c's previous motion). Pair events
-  // later than either cluster's list rebuild are left out: the rebuild predicts them.
+  // everything filed under c before (all of it involved c's previous motion).
   void predict(int c, bool skip_lower_clusters = false, int skip_cluster = -1) {
     const Cluster<D>& k = s_.clusters[c];
     batch_.clear();
     const WallContact w = next_wall_contact(s_, c);
     if (w.time < kNever) batch_.push_back({w.time, c, w.axis, k.stamp, 0, EventKind::wall});
-    const double horizon = rebuild_at_[c] = rebuild_time(c);
-    if (horizon < kNever) batch_.push_back({horizon, c, 0, k.stamp, 0, EventKind::list_rebuild});
+    rebuild_at_[c] = rebuild_time(c);
+    if (rebuild_at_[c] < kNever) batch_.push_back({rebuild_at_[c], c, 0, k.stamp, 0, EventKind::list_rebuild});
     const std::int32_t* cluster = s_.spheres.cluster.data();
     for (int i : lists_.exposed(c)) {
       for (int j : lists_.partners(i)) {
         const int d = cluster[j];
         if (d == skip_cluster || (skip_lower_clusters && d < c)) continue;
-        const double limit = std::min(horizon, rebuild_at_[d]);
-        const double t = predicted_contact(s_, i, j, s_.time, limit);
-        ++count_.pair_predictions;
-        if (t >= limit) continue;
-        const int lo = std::min(i, j), hi = std::max(i, j);
-        batch_.push_back({t, lo, hi, s_.cluster_of(lo).stamp, s_.cluster_of(hi).stamp, EventKind::collision});
+        if (auto e = pair_event(i, j)) batch_.push_back(*e);
       }
     }
     calendar_.refile(c, std::move(batch_));
