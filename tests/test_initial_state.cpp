@@ -1,6 +1,8 @@
 // Initial conditions: lattice (paper §4.1), random placement, the velocity laws.
 #include <cmath>
+#include <array>
 #include <numbers>
+#include <set>
 
 #include <gtest/gtest.h>
 
@@ -17,13 +19,18 @@ TEST(InitialState, DefaultIsThePapersLatticeWithUnitSpeeds) {
   const State<2> s = make_initial_state<2>(c);
   ASSERT_EQ(s.n_spheres(), 2500);
   EXPECT_NEAR(s.box.length, std::sqrt(2500 * std::numbers::pi * 0.04 / 0.2), 1e-12);
+  // Every sphere sits at the centre of a lattice cell, one per cell.
   const double spacing = s.box.length / 50;
+  std::set<std::pair<int, int>> cells;
   for (int i = 0; i < s.n_spheres(); ++i) {
     const Vec<2> x = s.position(i, 0);
-    EXPECT_NEAR(x[0], (i % 50 + 0.5) * spacing, 1e-12);
-    EXPECT_NEAR(x[1], (i / 50 + 0.5) * spacing, 1e-12);
+    const int cx = static_cast<int>(x[0] / spacing), cy = static_cast<int>(x[1] / spacing);
+    EXPECT_NEAR(x[0], (cx + 0.5) * spacing, 1e-12);
+    EXPECT_NEAR(x[1], (cy + 0.5) * spacing, 1e-12);
+    cells.insert({cx, cy});
     EXPECT_NEAR(s.velocity(i).norm(), 1.0, 1e-15);
   }
+  EXPECT_EQ(cells.size(), 2500u);
   EXPECT_EQ(s.n_clusters(), 2500);
 }
 
@@ -33,8 +40,16 @@ TEST(InitialState, PartialCubicLatticeFillsCellsInOrder) {
   c.system.n = 10;  // a 3x3x3 lattice, first 10 cells
   c.system.volume_fraction = 0.05;
   const State<3> s = make_initial_state<3>(c);
+  // The first 10 cells in row-major order (x fastest): the bottom layer and (0, 0, 1).
   const double a = s.box.length / 3;
-  EXPECT_NEAR((s.position(9, 0) - Vec<3>(0.5 * a, 0.5 * a, 1.5 * a)).norm(), 0.0, 1e-12);
+  std::set<std::array<int, 3>> cells;
+  for (int i = 0; i < s.n_spheres(); ++i) {
+    const Vec<3> x = s.position(i, 0) / a;
+    cells.insert({static_cast<int>(x[0]), static_cast<int>(x[1]), static_cast<int>(x[2])});
+  }
+  std::set<std::array<int, 3>> expected;
+  for (int k = 0; k < 10; ++k) expected.insert({k % 3, (k / 3) % 3, k / 9});
+  EXPECT_EQ(cells, expected);
 }
 
 TEST(InitialState, RandomPlacementHasNoOverlapAndStaysInsideWalls) {

@@ -26,14 +26,16 @@ struct Spheres {
 
 template <int D>
 struct Cluster {
+  // Hot: read by every prediction and validity check; kept within one cache line.
   Vec<D> anchor = Vec<D>::Zero();      // body origin at anchor_time (folded into the box if periodic)
-  double anchor_time = 0.0;
   Vec<D> velocity = Vec<D>::Zero();
+  double anchor_time = 0.0;
+  std::uint64_t stamp = 0;             // renewed at every change of motion or membership
+  // Cold: bookkeeping.
   double mass = 0.0;
   std::vector<std::int32_t> members;   // sphere ids, empty once merged into another cluster
   Vec<D> lo = Vec<D>::Zero();          // body-frame bounding box of the member spheres,
   Vec<D> hi = Vec<D>::Zero();          // radii included (used for wall contacts)
-  std::uint64_t stamp = 0;             // renewed at every change of motion or membership
   double last_collision_time = -1e300; // for the TC model of inelastic collapse
 
   bool alive() const { return !members.empty(); }
