@@ -86,8 +86,8 @@ class EventDrivenCore {
   }
 
  private:
-  // The default skin: one mean radius. Periodic boxes need every listed pair to be closer
-  // than half the box, so the skin shrinks in a small periodic box.
+  // The requested skin, or default_skin(). Periodic boxes need every listed pair to be
+  // closer than half the box, so the skin shrinks in a small periodic box.
   static double choose_skin(const State<D>& s, double requested) {
     double skin = requested > 0.0 ? requested : default_skin(s);
     if (s.box.periodic()) {
@@ -293,7 +293,7 @@ class EventDrivenCore {
   CellGrid<D> grid_;
   NeighborLists lists_;
   EventCalendar calendar_;
-  std::vector<Event> batch_;         // scratch for predict()
+  std::vector<Event> batch_;         // scratch for predict() and rebuild()
   struct Drift {
     Vec<D> displacement_at_anchor = Vec<D>::Zero();  // since the reference instant
     double slack = 0.0;                               // drift before the reference instant
