@@ -39,6 +39,7 @@ void ProgressReporter<D>::report(const State<D>& s, std::int64_t events, bool fi
   const double to_remove = std::max(1, initial_clusters_ - static_cast<int>(stop_.clusters));
   double done = std::clamp((initial_clusters_ - s.n_clusters()) / to_remove, 0.0, 1.0);
   if (std::isfinite(stop_.time)) done = std::max(done, std::min(1.0, s.time / stop_.time));
+  if (!final) done = std::min(done, 0.99);  // "100%" only once the run has ended
   const double elapsed = seconds();
   const double rate = elapsed > 0.0 ? events / elapsed : 0.0;
   const std::string status = fmt::format("clusters {} / {}  t = {:.6g}  {:.3g} M events/s  {:.1f} s", s.n_clusters(),
