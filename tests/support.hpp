@@ -2,6 +2,9 @@
 // Helpers shared by the tests: small hand-built states, runs with an observer that records
 // every event, and exhaustive checks of the physics invariants.
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <random>
 #include <functional>
 #include <sstream>
 #include <string>
@@ -16,7 +19,39 @@
 #include "ballagg/io/timeseries.hpp"
 #include "ballagg/run/simulation.hpp"
 
+// Checks that `needle` occurs in `haystack`, printing both when it does not.
+#define EXPECT_CONTAINS(haystack, needle) \
+  EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << "'" << (needle) << "' not in: " << (haystack)
+
 namespace ballagg::testing {
+
+// A fresh directory under the system's temporary directory, removed with its content.
+class TempDir {
+ public:
+  explicit TempDir(const std::string& prefix = "ballagg-test-") {
+    std::random_device rd;
+    path_ = std::filesystem::temp_directory_path() / (prefix + std::to_string(rd()) + "-" + std::to_string(rd()));
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ec;
+    std::filesystem::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+
+  const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path operator/(const std::string& name) const { return path_ / name; }
+  // Writes `text` to the file `name` in the directory and returns its path.
+  std::filesystem::path write(const std::string& name, const std::string& text) const {
+    const std::filesystem::path p = path_ / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+
+ private:
+  std::filesystem::path path_;
+};
 
 // A sphere of a hand-built state; spheres with the same cluster label >= 0 are glued.
 template <int D>

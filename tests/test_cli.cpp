@@ -15,16 +15,16 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "support.hpp"
+
 #ifndef BALLAGG_BINARY
 #error "BALLAGG_BINARY must name the ballagg executable"
 #endif
 
 namespace fs = std::filesystem;
+using ballagg::testing::TempDir;
 
 namespace {
-
-#define EXPECT_CONTAINS(haystack, needle) \
-  EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << "'" << (needle) << "' not in: " << (haystack)
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
@@ -49,16 +49,6 @@ struct Outcome {
 // A fresh directory per test; every command runs with the binary, its output captured.
 class Cli : public ::testing::Test {
  protected:
-  void SetUp() override {
-    std::random_device rd;
-    dir_ = fs::temp_directory_path() / ("ballagg-test-cli-" + std::to_string(rd()) + "-" + std::to_string(rd()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-
   fs::path path(const std::string& name) const { return dir_ / name; }
 
   // Runs `ballagg args...` (each argument quoted for the shell); a run that hangs is killed
@@ -101,7 +91,8 @@ class Cli : public ::testing::Test {
     EXPECT_FALSE(fs::exists(out_dir)) << out_dir << " was created";
   }
 
-  fs::path dir_;
+  const TempDir scratch_{"ballagg-test-cli-"};
+  const fs::path& dir_ = scratch_.path();
 };
 
 nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(slurp(p)); }

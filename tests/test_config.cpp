@@ -12,11 +12,14 @@
 #include <gtest/gtest.h>
 
 #include "ballagg/config/config.hpp"
+#include "support.hpp"
 
 namespace fs = std::filesystem;
 using ballagg::Config;
 using ballagg::InputError;
 using ballagg::parse_config_text;
+
+using ballagg::testing::TempDir;
 
 namespace {
 
@@ -35,9 +38,6 @@ std::string error_of(const std::string& text, const std::vector<std::string>& ov
   ADD_FAILURE() << "expected InputError for:\n" << text;
   return {};
 }
-
-#define EXPECT_CONTAINS(haystack, needle) \
-  EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << "'" << (needle) << "' not in: " << (haystack)
 
 // Every field of two configs is equal (the source name is not compared).
 void expect_same_config(const Config& a, const Config& b) {
@@ -101,28 +101,6 @@ wall_seconds = 60
 timeseries_interval = 0.5
 xyz = false
 )";
-
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    path_ = fs::temp_directory_path() / ("ballagg-test-config-" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-  fs::path write(const std::string& name, const std::string& text) const {
-    const fs::path p = path_ / name;
-    std::ofstream(p, std::ios::binary) << text;
-    return p;
-  }
-
- private:
-  fs::path path_;
-};
 
 }  // namespace
 

@@ -23,10 +23,9 @@ using ballagg::SphereTable;
 using ballagg::State;
 using ballagg::testing::vec;
 
-namespace {
+using ballagg::testing::TempDir;
 
-#define EXPECT_CONTAINS(haystack, needle) \
-  EXPECT_NE(std::string(haystack).find(needle), std::string::npos) << "'" << (needle) << "' not in: " << (haystack)
+namespace {
 
 template <int D>
 std::string parse_error(const std::string& text, const std::string& source = "in.csv") {
@@ -61,23 +60,6 @@ template <int D>
 State<D> assemble(const std::string& text, double box_length, Boundary boundary) {
   return ballagg::assemble_state<D>(Box<D>{box_length, boundary}, ballagg::parse_state_csv<D>(text, "in.csv"));
 }
-
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    path_ = fs::temp_directory_path() / ("ballagg-test-csv-" + std::to_string(rd()) + std::to_string(rd()));
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
 
 }  // namespace
 
