@@ -283,7 +283,7 @@ TEST(Config, SetUnknownSectionIsAnError) {
   const std::string m = error_of("", {"sytem.n=5"});
   EXPECT_CONTAINS(m, "--set sytem");
   EXPECT_CONTAINS(m, "unknown section [sytem]");
-  EXPECT_CONTAINS(m, "system, initial, collision, engine, stop, output");
+  EXPECT_CONTAINS(m, "system, initial, collision, engine, ts, stop, output");
 }
 
 TEST(Config, MalformedSetWithoutDotIsAnError) {
@@ -417,7 +417,7 @@ TEST(Config, UnknownSectionNamesSectionAndLine) {
   const std::string m = error_of("[system]\nn = 4\n\n[outputs]\nxyz = false\n");
   EXPECT_CONTAINS(m, "run.toml:4");
   EXPECT_CONTAINS(m, "[outputs]");
-  EXPECT_CONTAINS(m, "system, initial, collision, engine, stop, output");
+  EXPECT_CONTAINS(m, "system, initial, collision, engine, ts, stop, output");
 }
 
 TEST(Config, KeyOutsideAnySectionIsAnError) {
@@ -456,7 +456,10 @@ TEST(Config, WrongTypeNamesKeyLineAndWhatIsAllowed) {
       {"[initial]\n\npositions = true\n", "initial.positions", "\"lattice\", \"random\", \"file\""},
       {"[initial]\n\nspeed = [1, 2]\n", "initial.speed", "number"},
       {"[output]\n\nxyz = \"yes\"\n", "output.xyz", "true or false"},
-      {"[engine]\n\nkind = \"fast\"\n", "engine.kind", "\"ed\", \"ed-naive\""},
+      {"[engine]\n\nkind = \"fast\"\n", "engine.kind", "\"ed\", \"ed-naive\", \"ts\""},
+      {"[ts]\n\nmodel = \"soft\"\n", "ts.model", "\"rigid\", \"almost-rigid\", \"non-rigid\""},
+      {"[ts]\n\ndt_rule = 3\n", "ts.dt_rule", "\"growth\", \"adaptive\""},
+      {"[ts]\n\nmax_iterations = 2.5\n", "ts.max_iterations", "integer"},
       {"[collision]\n\noutcome = \"merge\"\n", "collision.outcome", "\"stick\", \"bounce\""},
       {"[initial]\n\nvelocities = \"maxwell\"\n", "initial.velocities", "\"fixed-speed\", \"uniform\", \"gaussian\""},
       {"[stop]\n\nclusters = 1.5\n", "stop.clusters", "integer"},
@@ -500,6 +503,23 @@ TEST(Config, OutOfRangeValuesAreRejectedForEveryKeyWithARange) {
       {"stop", "time", "-1", "> 0"},
       {"stop", "wall_seconds", "0", "> 0"},
       {"output", "timeseries_interval", "-1", ">= 0"},
+      {"ts", "dt_factor", "0", "(0, 1]"},
+      {"ts", "dt_factor", "1.5", "(0, 1]"},
+      {"ts", "dt_growth", "0.5", "[1, 1000]"},
+      {"ts", "delta_w", "0", "> 0"},
+      {"ts", "alpha", "0", "> 0"},
+      {"ts", "gamma", "-1", ">= 0"},
+      {"ts", "delta", "0", "> 0"},
+      {"ts", "c_bar", "-0.1", ">= 0"},
+      {"ts", "c_min", "1", "[0, 1)"},
+      {"ts", "c_max", "1.5", "(0, 1]"},
+      {"ts", "beta_bar", "0", "> 0"},
+      {"ts", "beta_max", "-2", "> 0"},
+      {"ts", "lambda0", "-1", ">= 0"},
+      {"ts", "eps_s", "0", "(0, 1)"},
+      {"ts", "eps_c", "1", "(0, 1)"},
+      {"ts", "max_iterations", "0", "from 1 to 100000000"},
+      {"ts", "max_link_rounds", "0", "from 1 to 1000000"},
   };
   for (const Case& c : cases) {
     const std::string m = error_of("[" + c.section + "]\n" + c.key + " = " + c.value + "\n");
@@ -563,6 +583,42 @@ TEST(Config, FilePositionsWithoutFileAreRejected) {
   const std::string m = error_of("[system]\nbox_length = 20\n[initial]\npositions = \"file\"\n");
   EXPECT_CONTAINS(m, "initial.file");
   EXPECT_CONTAINS(m, "run.toml");
+}
+
+TEST(Config, TsSectionIsReadAndWrittenBack) {
+  const Config c = parse_config_text("[engine]\nkind = \"ts\"\n[ts]\nmodel = \"non-rigid\"\ndt_factor = 0.005\n"
+                                     "dt_rule = \"adaptive\"\neps_c = 1e-4\nmax_iterations = 500\n",
+                                     "t");
+  EXPECT_EQ(c.engine.kind, ballagg::EngineKind::ts);
+  EXPECT_EQ(c.ts.model, ballagg::TsModel::non_rigid);
+  EXPECT_EQ(c.ts.dt_rule, ballagg::TsDtRule::adaptive);
+  EXPECT_DOUBLE_EQ(c.ts.dt_factor, 0.005);
+  EXPECT_DOUBLE_EQ(c.ts.daha.eps_c, 1e-4);
+  EXPECT_EQ(c.ts.daha.max_iterations, 500);
+  const Config back = parse_config_text(ballagg::to_toml_text(c), "back");
+  EXPECT_EQ(ballagg::to_toml_text(back), ballagg::to_toml_text(c));
+  EXPECT_CONTAINS(ballagg::to_toml_text(c), "[ts]\nmodel = \"non-rigid\"");
+}
+
+TEST(Config, TsSectionIsLeftOutOfTheResolvedConfigOfOtherEngines) {
+  const Config c = parse_config_text("[ts]\nmodel = \"non-rigid\"\n", "t");
+  EXPECT_EQ(ballagg::to_toml_text(c).find("[ts]"), std::string::npos);
+}
+
+TEST(Config, TsWithBounceIsRejected) {
+  const std::string m = error_of("[engine]\nkind = \"ts\"\n[collision]\noutcome = \"bounce\"\n");
+  EXPECT_CONTAINS(m, "collision.outcome must be \"stick\"");
+}
+
+TEST(Config, TsDampingBoundsMustBeOrdered) {
+  const std::string m = error_of("[ts]\nc_min = 0.5\nc_max = 0.4\n");
+  EXPECT_CONTAINS(m, "ts.c_min = 0.5 is larger than ts.c_max = 0.4");
+}
+
+TEST(Config, UnknownTsKeyIsListedWithTheKnownOnes) {
+  const std::string m = error_of("[ts]\ndt = 0.1\n");
+  EXPECT_CONTAINS(m, "unknown key 'ts.dt'");
+  EXPECT_CONTAINS(m, "dt_factor");
 }
 
 TEST(Config, FilePositionsWithoutBoxLengthAreRejected) {

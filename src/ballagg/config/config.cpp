@@ -168,17 +168,53 @@ void apply_override(toml::table& root, const std::string& arg, std::set<std::str
   overridden.insert(path);
 }
 
+// [ts]: the time-stepping engine and its minimiser (docs/time_stepping.md).
+TimeSteppingSettings read_ts_section(const toml::table& root, const std::string& source,
+                                     const std::set<std::string>& overridden) {
+  TimeSteppingSettings t;
+  DahaParameters& d = t.daha;
+  SectionReader ts(root, "ts", source, overridden);
+  auto in_open_unit = [](double v) { return v > 0.0 && v < 1.0; };
+  if (auto v = ts.choice("model", {"rigid", "almost-rigid", "non-rigid"})) t.model = static_cast<TsModel>(*v);
+  if (auto v = ts.choice("dt_rule", {"growth", "adaptive"})) t.dt_rule = static_cast<TsDtRule>(*v);
+  if (auto v = ts.real("dt_factor", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]"))
+    t.dt_factor = *v;
+  if (auto v = ts.real("dt_growth", [](double v) { return v >= 1.0 && v <= 1e3; }, "must be a number in [1, 1000]"))
+    t.dt_growth = *v;
+  t.delta_w = ts.real("delta_w", positive, "must be a number > 0 (a length; default 4 R)");
+  if (auto v = ts.integer("max_link_rounds", 1, 1'000'000, "must be an integer from 1 to 1000000"))
+    t.max_link_rounds = static_cast<int>(*v);
+  if (auto v = ts.real("alpha", positive, "must be a number > 0")) d.alpha = *v;
+  if (auto v = ts.real("gamma", [](double v) { return v >= 0.0; }, "must be a number >= 0")) d.gamma = *v;
+  if (auto v = ts.real("delta", positive, "must be a number > 0")) d.delta = *v;
+  if (auto v = ts.real("c_bar", [](double v) { return v >= 0.0; }, "must be a number >= 0")) d.c_bar = *v;
+  if (auto v = ts.real("c_min", [](double v) { return v >= 0.0 && v < 1.0; }, "must be a number in [0, 1)")) d.c_min = *v;
+  if (auto v = ts.real("c_max", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]")) d.c_max = *v;
+  if (auto v = ts.real("beta_bar", positive, "must be a number > 0")) d.beta_bar = *v;
+  if (auto v = ts.real("beta_max", positive, "must be a number > 0")) d.beta_max = *v;
+  if (auto v = ts.real("lambda0", [](double v) { return v >= 0.0; }, "must be a number >= 0")) d.lambda0 = *v;
+  if (auto v = ts.real("eps_s", in_open_unit, "must be a number in (0, 1)")) d.eps_s = *v;
+  if (auto v = ts.real("eps_c", in_open_unit, "must be a number in (0, 1)")) d.eps_c = *v;
+  if (auto v = ts.integer("max_iterations", 1, 100'000'000, "must be an integer from 1 to 100000000"))
+    d.max_iterations = static_cast<int>(*v);
+  ts.reject_unknown_keys();
+  if (d.c_min > d.c_max)
+    throw InputError(fmt::format("{}: ts.c_min = {} is larger than ts.c_max = {}: the damping bounds must satisfy c_min <= c_max",
+                                 source, d.c_min, d.c_max));
+  return t;
+}
+
 Config read_config(const toml::table& root, const std::string& source, const std::set<std::string>& overridden) {
-  static const std::set<std::string> sections{"system", "initial", "collision", "engine", "stop", "output"};
+  static const std::set<std::string> sections{"system", "initial", "collision", "engine", "ts", "stop", "output"};
   for (auto&& [k, node] : root) {
     if (!sections.count(std::string(k.str()))) {
       const std::string where = node.source().begin.line > 0 ? fmt::format("{}:{}", source, node.source().begin.line)
                                                              : "--set " + std::string(k.str());
       if (!node.is_table())
         throw InputError(fmt::format("{}: key '{}' is outside any section (keys belong in the sections system, "
-                                     "initial, collision, engine, stop, output)",
+                                     "initial, collision, engine, ts, stop, output)",
                                      where, k.str()));
-      throw InputError(fmt::format("{}: unknown section [{}] (sections: system, initial, collision, engine, stop, output)",
+      throw InputError(fmt::format("{}: unknown section [{}] (sections: system, initial, collision, engine, ts, stop, output)",
                                    where, k.str()));
     }
   }
@@ -215,9 +251,11 @@ Config read_config(const toml::table& root, const std::string& source, const std
   col.reject_unknown_keys();
 
   SectionReader eng(root, "engine", source, overridden);
-  if (auto v = eng.choice("kind", {"ed", "ed-naive"})) c.engine.kind = static_cast<EngineKind>(*v);
+  if (auto v = eng.choice("kind", {"ed", "ed-naive", "ts"})) c.engine.kind = static_cast<EngineKind>(*v);
   c.engine.skin = eng.real("skin", positive, "must be a number > 0 (a length)");
   eng.reject_unknown_keys();
+
+  c.ts = read_ts_section(root, source, overridden);
 
   SectionReader stop(root, "stop", source, overridden);
   if (auto v = stop.integer("clusters", 1, std::numeric_limits<std::int64_t>::max(), "must be an integer >= 1"))
@@ -235,6 +273,9 @@ Config read_config(const toml::table& root, const std::string& source, const std
 
   // Rules that involve several keys.
   const bool from_file = c.initial.positions == InitialPositions::file;
+  if (c.engine.kind == EngineKind::ts && c.collision.outcome != CollisionOutcome::stick)
+    throw InputError(fmt::format("{}: engine.kind = \"ts\" simulates sticking only: collision.outcome must be \"stick\" "
+                                 "(use engine.kind = \"ed\" for bounces)", source));
   if (c.system.volume_fraction && c.system.box_length)
     throw InputError(fmt::format("{}: give system.volume_fraction or system.box_length, not both", source));
   if (from_file && c.initial.file.empty())
@@ -307,7 +348,15 @@ std::string_view to_string(InitialVelocities v) {
   static constexpr std::string_view names[] = {"fixed-speed", "uniform", "gaussian"};
   return names[static_cast<int>(v)];
 }
-std::string_view to_string(EngineKind k) { return k == EngineKind::ed ? "ed" : "ed-naive"; }
+std::string_view to_string(EngineKind k) {
+  static constexpr std::string_view names[] = {"ed", "ed-naive", "ts"};
+  return names[static_cast<int>(k)];
+}
+std::string_view to_string(TsModel m) {
+  static constexpr std::string_view names[] = {"rigid", "almost-rigid", "non-rigid"};
+  return names[static_cast<int>(m)];
+}
+std::string_view to_string(TsDtRule r) { return r == TsDtRule::growth ? "growth" : "adaptive"; }
 std::string_view to_string(CollisionOutcome o) { return o == CollisionOutcome::stick ? "stick" : "bounce"; }
 
 namespace {
@@ -336,9 +385,25 @@ std::vector<Section> entries(const Config& c) {
   if (c.collision.tc_time) collision.second.push_back({"tc_time", *c.collision.tc_time});
   Section engine{"engine", {{"kind", str(to_string(c.engine.kind))}}};
   if (c.engine.skin) engine.second.push_back({"skin", *c.engine.skin});
+  const TimeSteppingSettings& t = c.ts;
+  Section ts{"ts",
+             {{"model", str(to_string(t.model))},
+              {"dt_rule", str(to_string(t.dt_rule))},
+              {"dt_factor", t.dt_factor},
+              {"dt_growth", t.dt_growth}}};
+  if (t.delta_w) ts.second.push_back({"delta_w", *t.delta_w});
+  const DahaParameters& d = t.daha;
+  for (auto&& [key, value] : std::initializer_list<std::pair<const char*, double>>{
+           {"alpha", d.alpha}, {"gamma", d.gamma}, {"delta", d.delta}, {"c_bar", d.c_bar}, {"c_min", d.c_min}, {"c_max", d.c_max},
+           {"beta_bar", d.beta_bar}, {"beta_max", d.beta_max}, {"lambda0", d.lambda0}, {"eps_s", d.eps_s},
+           {"eps_c", d.eps_c}})
+    ts.second.push_back({key, value});
+  ts.second.push_back({"max_iterations", std::int64_t{d.max_iterations}});
+  ts.second.push_back({"max_link_rounds", std::int64_t{t.max_link_rounds}});
   Section stop{"stop", {{"clusters", c.stop.clusters}, {"time", c.stop.time}, {"wall_seconds", c.stop.wall_seconds}}};
   Section output{"output", {{"timeseries_interval", c.output.timeseries_interval}, {"xyz", c.output.xyz}}};
-  return {system, initial, collision, engine, stop, output};
+  if (c.engine.kind != EngineKind::ts) return {system, initial, collision, engine, stop, output};
+  return {system, initial, collision, engine, ts, stop, output};
 }
 
 std::string toml_value(const Value& v) {

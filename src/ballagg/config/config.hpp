@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ballagg/engines/engine.hpp"
+#include "ballagg/engines/time_stepping/ts_settings.hpp"
 #include "ballagg/spatial/box.hpp"
 
 namespace ballagg {
@@ -22,7 +23,7 @@ class InputError : public std::runtime_error {
 
 enum class InitialPositions { lattice, random, file };
 enum class InitialVelocities { fixed_speed, uniform, gaussian };
-enum class EngineKind { ed, ed_naive };
+enum class EngineKind { ed, ed_naive, ts };
 
 struct SystemConfig {
   int dimension = 2;
@@ -72,6 +73,7 @@ struct Config {
   EngineConfig engine;
   StopConfig stop;
   OutputConfig output;
+  TimeSteppingSettings ts;  // [ts], read always, used when engine.kind = "ts"
   std::string source = "(defaults)";  // where it was read from, for messages
 };
 
@@ -98,6 +100,7 @@ std::string to_json_text(const Config& c);
 std::string_view to_string(InitialPositions p);
 std::string_view to_string(InitialVelocities v);
 std::string_view to_string(EngineKind k);
+
 std::string_view to_string(CollisionOutcome o);
 
 }  // namespace ballagg

@@ -30,17 +30,31 @@ void State<D>::finalize() {
     alive_.push_back(c);
     largest_cluster_ = std::max(largest_cluster_, k.size());
     k.mass = 0.0;
-    k.lo = Vec<D>::Constant(std::numeric_limits<double>::infinity());
-    k.hi = -k.lo;
-    for (int i : k.members) {
-      k.mass += spheres.mass[i];
-      const Vec<D> r = Vec<D>::Constant(spheres.radius[i]);
-      k.lo = k.lo.cwiseMin(spheres.offset[i] - r);
-      k.hi = k.hi.cwiseMax(spheres.offset[i] + r);
-    }
+    for (int i : k.members) k.mass += spheres.mass[i];
+    refresh_extent(c);
     assign_motion(c, k.velocity, k.anchor_time);
   }
   resync_totals();
+}
+
+template <int D>
+void State<D>::refresh_extent(int c) {
+  Cluster<D>& k = clusters[c];
+  k.lo = Vec<D>::Constant(std::numeric_limits<double>::infinity());
+  k.hi = -k.lo;
+  for (int i : k.members) {
+    const Vec<D> r = Vec<D>::Constant(spheres.radius[i]);
+    k.lo = k.lo.cwiseMin(spheres.offset[i] - r);
+    k.hi = k.hi.cwiseMax(spheres.offset[i] + r);
+  }
+}
+
+template <int D>
+void State<D>::translate(int c, const Vec<D>& du, double t) {
+  Cluster<D>& k = clusters[c];
+  k.anchor = box.wrap(origin(c, t) + du);
+  k.anchor_time = t;
+  k.stamp = new_stamp();
 }
 
 template <int D>

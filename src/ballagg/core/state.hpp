@@ -85,6 +85,13 @@ class State {
   // with the lower id on a tie) survives and is returned; the other is left empty.
   int merge(int i, int j, double t);
 
+  // Moves cluster c rigidly by du at time t (time stepping: wall mirroring, minimisation).
+  void translate(int c, const Vec<D>& du, double t);
+  // Moves sphere i by du within its cluster (time stepping, non-rigid models). Call
+  // refresh_extent on its cluster after moving its spheres.
+  void displace_sphere(int i, const Vec<D>& du) { spheres.offset[i] += du; }
+  void refresh_extent(int c);
+
   // True when cluster c spans the box along axis a (walls only): it cannot move along a.
   bool pinned(int c, int a) const;
 

@@ -31,7 +31,7 @@ struct StopCriteria {
 enum class StopReason { clusters, time, wall_seconds, no_more_events, no_collision_possible };
 std::string_view to_string(StopReason r);
 
-enum class EventKind : std::uint8_t { collision = 0, wall = 1, list_rebuild = 2 };
+enum class EventKind : std::uint8_t { collision = 0, wall = 1, list_rebuild = 2, time_step = 3 };
 
 // What the engine tells an observer after each event it handled.
 struct EventRecord {
@@ -41,6 +41,7 @@ struct EventRecord {
   int cluster = -1;                  // surviving / reflected / rebuilt cluster
   int axis = -1;                     // wall: the axis of the wall's normal
   int merges = 0;                    // clusters absorbed by this event (cascade included)
+                                     // (time step: by the whole step)
 };
 
 struct EngineCounters {
@@ -53,6 +54,17 @@ struct EngineCounters {
   std::int64_t rebuilt_spheres = 0;    // spheres re-binned by list rebuilds (work measure)
   std::int64_t pair_predictions = 0;   // contact times computed (work measure)
   std::int64_t queue_peak = 0;
+  // Time stepping.
+  std::int64_t steps = 0;
+  std::int64_t minimisations = 0;      // DAHA solves (one per connected group per round)
+  std::int64_t daha_iterations = 0;
+  std::int64_t unconverged = 0;        // minimisations that reached max_iterations
+  std::int64_t backtracks = 0;         // restarts of a minimisation from moved-back positions
+  std::int64_t placed_at_contact = 0;  // groups placed at first contact after all restarts failed
+  std::int64_t link_rounds = 0;        // repetitions of (3.1)-(3.2) beyond the first
+  std::int64_t rounds_exhausted = 0;   // steps that reached max_link_rounds
+  double max_residual_overlap = 0.0;   // largest relative overlap left after any step
+  double max_link_stretch = 0.0;       // largest d / (R_i + R_j) - 1 of an old link after a step
 };
 
 struct RunResult {

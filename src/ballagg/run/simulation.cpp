@@ -11,6 +11,7 @@
 
 #include "ballagg/analysis/overlap.hpp"
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
+#include "ballagg/engines/time_stepping/time_stepping_engine.hpp"
 #include "ballagg/initial/initial_state.hpp"
 #include "ballagg/io/output_dir.hpp"
 #include "ballagg/io/state_csv.hpp"
@@ -27,7 +28,8 @@ Config resolve_defaults(Config c, const State<D>& s) {
   double mean_square_speed = 0.0;
   for (int i = 0; i < s.n_spheres(); ++i) mean_square_speed += s.velocity(i).squaredNorm();
   mean_square_speed /= s.n_spheres();
-  if (!c.engine.skin) c.engine.skin = default_skin(s);
+  if (!c.engine.skin && c.engine.kind != EngineKind::ts) c.engine.skin = default_skin(s);
+  if (!c.ts.delta_w) c.ts.delta_w = 4.0 * mean_radius;
   if (!c.collision.tc_time && c.collision.outcome == CollisionOutcome::bounce) {
     const double rms = std::sqrt(mean_square_speed);
     c.collision.tc_time = rms > 0.0 ? kDefaultTcFraction * 2.0 * mean_radius / rms : 0.0;
@@ -39,6 +41,7 @@ template <int D>
 std::unique_ptr<Engine<D>> make_engine(const Config& c) {
   const CollisionSettings law{c.collision.outcome, c.collision.restitution, c.collision.tc_time.value_or(0.0)};
   if (c.engine.kind == EngineKind::ed_naive) return make_naive_event_driven_engine<D>(law);
+  if (c.engine.kind == EngineKind::ts) return make_time_stepping_engine<D>(c.ts);
   return make_event_driven_engine<D>({law, c.engine.skin.value_or(0.0)});
 }
 
@@ -95,15 +98,29 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   j["largest_cluster"] = s.largest_cluster();
   j["time"] = s.time;
   j["stop_reason"] = to_string(r.reason);
-  j["events"] = r.counters.events;
-  j["collisions"] = r.counters.collisions;
-  j["merges"] = r.counters.merges;
-  j["bounces"] = r.counters.bounces;
-  j["wall_bounces"] = r.counters.wall_bounces;
-  j["list_rebuilds"] = r.counters.list_rebuilds;
-  j["rebuilt_spheres"] = r.counters.rebuilt_spheres;
-  j["pair_predictions"] = r.counters.pair_predictions;
-  j["event_queue_peak"] = r.counters.queue_peak;
+  const EngineCounters& n = r.counters;
+  j["events"] = n.events;
+  j["collisions"] = n.collisions;
+  j["merges"] = n.merges;
+  j["bounces"] = n.bounces;
+  j["wall_bounces"] = n.wall_bounces;
+  if (c.engine.kind == EngineKind::ts) {
+    j["steps"] = n.steps;
+    j["minimisations"] = n.minimisations;
+    j["daha_iterations"] = n.daha_iterations;
+    j["unconverged_minimisations"] = n.unconverged;
+    j["backtracks"] = n.backtracks;
+    j["placed_at_contact"] = n.placed_at_contact;
+    j["link_rounds"] = n.link_rounds;
+    j["link_rounds_exhausted"] = n.rounds_exhausted;
+    j["max_residual_overlap"] = n.max_residual_overlap;
+    if (c.ts.model != TsModel::rigid) j["max_link_stretch"] = n.max_link_stretch;
+  } else {
+    j["list_rebuilds"] = n.list_rebuilds;
+    j["rebuilt_spheres"] = n.rebuilt_spheres;
+    j["pair_predictions"] = n.pair_predictions;
+    j["event_queue_peak"] = n.queue_peak;
+  }
   j["wall_pinnings"] = s.pinnings() - initial.pinnings;
   j["wall_seconds"] = r.wall_seconds;
   j["events_per_second"] = r.wall_seconds > 0 ? r.counters.events / r.wall_seconds : 0.0;

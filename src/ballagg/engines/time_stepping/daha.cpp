@@ -1,0 +1,145 @@
+#include "ballagg/engines/time_stepping/daha.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ballagg {
+namespace {
+
+// Relative overlap 1 - d / sigma of a pair at separation d, or 0 when apart.
+template <int D>
+double relative_overlap(const Vec<D>& d, double sigma) {
+  return std::max(0.0, 1.0 - d.norm() / sigma);
+}
+
+// Overlap statistics that drive the dynamical parameters (3.29).
+struct OverlapStats {
+  std::vector<double> sum, count;  // per variable
+  double mean = 0.0;               // phi_A: mean relative overlap over all pairs
+  double max = 0.0;
+};
+
+template <int D>
+Vec<D> separation(const DahaPair<D>& q, const std::vector<Vec<D>>& u) {
+  return q.base + u[q.a] - u[q.b];
+}
+
+// Multiplier update (3.24) at the new positions, and the overlaps for the next iteration.
+template <int D>
+void update_multipliers(DahaProblem<D>& prob, const std::vector<Vec<D>>& u, double beta, OverlapStats& s) {
+  std::fill(s.sum.begin(), s.sum.end(), 0.0);
+  std::fill(s.count.begin(), s.count.end(), 0.0);
+  double total = 0.0;
+  s.max = 0.0;
+  for (DahaPair<D>& q : prob.pairs) {
+    const Vec<D> d = separation(q, u);
+    const double phi = q.sigma * q.sigma - d.squaredNorm();  // smooth constraint (3.4)
+    q.lambda = std::max(0.0, q.lambda + beta * phi);
+    const double rho = relative_overlap<D>(d, q.sigma);
+    // (3.28) read with complementarity: a constraint carrying a multiplier must hold as an
+    // equality (touching, |1 - d / sigma| small), one without only as an inequality.
+    const double violation = q.lambda > 0.0 ? std::abs(1.0 - d.norm() / q.sigma) : rho;
+    s.sum[q.a] += rho;
+    s.sum[q.b] += rho;
+    s.count[q.a] += 1.0;
+    s.count[q.b] += 1.0;
+    total += rho;
+    s.max = std::max(s.max, violation);
+  }
+  s.mean = prob.pairs.empty() ? 0.0 : total / static_cast<double>(prob.pairs.size());
+}
+
+// (3.29), beta = beta-bar sqrt(N) / phi_A: multipliers grow faster as the overlaps shrink
+// and as more spheres take part; capped, and at the cap when nothing overlaps.
+double dynamic_beta(const DahaParameters& p, int n_spheres, double mean_overlap) {
+  if (mean_overlap <= 0.0) return p.beta_max;
+  return std::min(p.beta_max, p.beta_bar * std::sqrt(static_cast<double>(n_spheres)) / mean_overlap);
+}
+
+// (3.29), c_i = c-bar |delta |V_i| - phi_i^A| / phi_A: damping grows as the mean overlap
+// shrinks, and when a variable moves much more (or less) per step than its own overlap.
+double dynamic_damping(const DahaParameters& p, double step_length, double own_overlap, double mean_overlap) {
+  if (mean_overlap <= 0.0) return p.c_max;
+  return std::clamp(p.c_bar * std::abs(step_length - own_overlap) / mean_overlap, p.c_min, p.c_max);
+}
+
+// The all-pairs potential of the non-rigid model, (3.5) with S every pair of the new
+// cluster: grad_a W = sum_b (X_a - X_b) = n (X_a - mean X).
+template <int D>
+void add_global_attraction(const DahaProblem<D>& prob, const std::vector<Vec<D>>& u, double alpha,
+                           std::vector<Vec<D>>& force, std::vector<double>& stiffness) {
+  const int n = static_cast<int>(u.size());
+  Vec<D> mean = Vec<D>::Zero();
+  for (int k = 0; k < n; ++k) mean += prob.position[k] + u[k];
+  mean /= n;
+  for (int k = 0; k < n; ++k) {
+    force[k] -= alpha * n * (prob.position[k] + u[k] - mean);
+    stiffness[k] += alpha * n;
+  }
+}
+
+}  // namespace
+
+template <int D>
+DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<Vec<D>>& u) {
+  const int n_vars = static_cast<int>(prob.inverse_mass.size());
+  u.assign(n_vars, Vec<D>::Zero());
+  std::vector<Vec<D>> velocity(n_vars, Vec<D>::Zero()), force(n_vars), previous(n_vars);
+  OverlapStats stats{std::vector<double>(n_vars), std::vector<double>(n_vars)};
+  // (3.26): lambda = lambda0 max(0, phi) for a pair without a stored multiplier.
+  for (DahaPair<D>& q : prob.pairs)
+    if (q.lambda == 0.0) q.lambda = p.lambda0 * std::max(0.0, q.sigma * q.sigma - q.base.squaredNorm());
+  update_multipliers(prob, u, 0.0, stats);  // beta = 0: statistics only
+  // Diagonal (Jacobi) scaling: the force on a variable held by stiff constraints (many of
+  // them, or large multipliers) changes fast with its position, and the explicit update
+  // would oscillate without bound. Each variable's force is divided by its stiffness
+  // (when above 1), the sum over its pairs of |dF/dd|; the steady states (zero force), and
+  // so the solutions, are unchanged.
+  std::vector<double> stiffness(n_vars);
+  DahaResult result;
+  const double half = 0.5 * p.delta;
+  const double range2 = prob.range * prob.range;
+  while (result.iterations < p.max_iterations) {
+    ++result.iterations;
+    previous = u;
+    for (int k = 0; k < n_vars; ++k) {
+      u[k] += half * velocity[k];  // (3.20): X^{r+1/2}
+      force[k].setZero();
+      stiffness[k] = 0.0;
+    }
+    if (!prob.position.empty()) add_global_attraction(prob, u, p.alpha, force, stiffness);
+    // (3.21): F_a = -alpha (grad_a W + lambda grad_a phi) - gamma phi lambda grad_a phi,
+    // with grad_a W = d for an attracting pair and grad_a phi = -2 d, d = X_a - X_b.
+    for (const DahaPair<D>& q : prob.pairs) {
+      const Vec<D> d = separation(q, u);
+      const double d2 = d.squaredNorm();
+      const double phi = q.sigma * q.sigma - d2;
+      const bool attract = q.attract && (!q.attract_within_range || d2 <= range2);
+      const double coefficient = (attract ? -p.alpha : 0.0) + 2.0 * q.lambda * (p.alpha + p.gamma * phi);
+      force[q.a] += coefficient * d;
+      force[q.b] -= coefficient * d;
+      const double k = std::abs(coefficient) + 4.0 * p.gamma * q.lambda * d2;
+      stiffness[q.a] += k;
+      stiffness[q.b] += k;
+    }
+    for (int k = 0; k < n_vars; ++k) {
+      velocity[k] += prob.inverse_mass[k] / std::max(1.0, stiffness[k]) * force[k];
+      const double own = stats.count[k] > 0.0 ? stats.sum[k] / stats.count[k] : 0.0;
+      const double c = dynamic_damping(p, p.delta * velocity[k].norm(), own, stats.mean);
+      velocity[k] *= 1.0 - c;          // (3.22)
+      u[k] += half * velocity[k];      // (3.23)
+    }
+    update_multipliers(prob, u, dynamic_beta(p, prob.n_spheres, stats.mean), stats);  // (3.24)
+    double largest_move = 0.0;         // (3.27), per variable, in units of the length scale
+    for (int k = 0; k < n_vars; ++k) largest_move = std::max(largest_move, (u[k] - previous[k]).norm());
+    result.converged = largest_move <= p.eps_s && stats.max <= p.eps_c;  // (3.28)
+    if (result.converged) break;
+  }
+  result.residual_overlap = stats.max;
+  return result;
+}
+
+template DahaResult minimise<2>(DahaProblem<2>&, const DahaParameters&, std::vector<Vec<2>>&);
+template DahaResult minimise<3>(DahaProblem<3>&, const DahaParameters&, std::vector<Vec<3>>&);
+
+}  // namespace ballagg

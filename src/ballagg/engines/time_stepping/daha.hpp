@@ -1,0 +1,60 @@
+#pragma once
+// The damped Arrow–Hurwicz algorithm (DAHA, paper §3.2): finds a configuration near the
+// given one that minimises the adhesion potential W under non-overlap constraints, by a
+// damped second-order dynamics of the positions coupled to projected ascent of the
+// Lagrange multipliers, eqs (3.20)-(3.24), with the initial condition (3.26), the stopping
+// conditions (3.27)-(3.28) and the dynamical parameters (3.29).
+//
+// The unknowns are displacements u_k, one per *variable*: a sphere (non-rigid and almost-
+// rigid models) or a whole old cluster (rigid model). Sphere a sits at base_a + u_{var(a)};
+// only differences of positions enter, so a pair is described by its base separation
+// (minimum image, taken once) and the problem never sees the periodic box.
+//
+// Units: every length is divided by the problem's length scale (the mean contact distance),
+// so that the parameters are dimensionless. docs/time_stepping.md derives the update from
+// the physics where the extracted formulas are garbled.
+#include <cstdint>
+#include <vector>
+
+#include "ballagg/core/vec.hpp"
+#include "ballagg/engines/time_stepping/ts_settings.hpp"
+
+namespace ballagg {
+
+template <int D>
+struct DahaPair {
+  std::int32_t a = 0, b = 0;          // variables of the two spheres (a != b)
+  Vec<D> base = Vec<D>::Zero();       // X_a - X_b before the minimisation (scaled)
+  double sigma = 1.0;                 // contact distance R_a + R_b (scaled)
+  double lambda = 0.0;                // Lagrange multiplier, in and out (warm start)
+  bool attract = true;                // in the potential W (links; pairs within Delta_W)
+  bool attract_within_range = false;  // almost-rigid: W term only while |d| <= range (H_W)
+};
+
+template <int D>
+struct DahaProblem {
+  std::vector<double> inverse_mass;   // per variable, relative to the mean sphere mass
+  std::vector<DahaPair<D>> pairs;
+  // Non-rigid model: W = 1/2 sum over all pairs of variables of |X_a - X_b|^2, whose
+  // gradient n (X_a - mean X) costs O(n); `position` holds the starting X_a (scaled,
+  // unwrapped). Empty: no such term.
+  std::vector<Vec<D>> position;
+  double range = 0.0;                 // Delta_W (scaled), for attract_within_range pairs
+  int n_spheres = 0;                  // spheres involved: the sqrt(N) of (3.29)
+};
+
+struct DahaResult {
+  int iterations = 0;
+  bool converged = false;             // both stopping conditions met before max_iterations
+  double residual_overlap = 0.0;      // max over pairs of 1 - d / sigma at the end
+};
+
+// Solves the problem; returns the displacements (scaled) in `u` (resized to the number of
+// variables) and the final multipliers in problem.pairs[].lambda.
+template <int D>
+DahaResult minimise(DahaProblem<D>& problem, const DahaParameters& p, std::vector<Vec<D>>& u);
+
+extern template DahaResult minimise<2>(DahaProblem<2>&, const DahaParameters&, std::vector<Vec<2>>&);
+extern template DahaResult minimise<3>(DahaProblem<3>&, const DahaParameters&, std::vector<Vec<3>>&);
+
+}  // namespace ballagg

@@ -1,0 +1,380 @@
+#include "ballagg/engines/time_stepping/time_stepping_engine.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <optional>
+#include <limits>
+#include <unordered_map>
+
+#include "ballagg/core/disjoint_sets.hpp"
+#include "ballagg/core/parallel.hpp"
+#include "ballagg/engines/event_driven/event_loop.hpp"
+#include "ballagg/engines/time_stepping/minimisation_problem.hpp"
+#include "ballagg/engines/time_stepping/time_step_rule.hpp"
+#include "ballagg/engines/time_stepping/walls.hpp"
+#include "ballagg/spatial/sorted_cell_list.hpp"
+
+namespace ballagg {
+namespace {
+
+// Cells of the step's cell list are (2 + kGridMargin) R_max wide: spheres may move by
+// kGridMargin R_max during the minimisation before the list must be rebuilt.
+constexpr double kGridMargin = 1.0;
+
+// Minimisations from positions moved back along the velocities before a group is placed at
+// its first contact instead.
+constexpr int kMaxBacktracks = 4;
+
+std::uint64_t pair_key(int i, int j) {
+  if (i > j) std::swap(i, j);
+  return (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
+}
+
+// The clusters of the spheres of the pairs, sorted, each once.
+template <int D>
+std::vector<std::int32_t> clusters_of(const State<D>& s, const std::vector<SpherePair>& pairs) {
+  std::vector<std::int32_t> out;
+  for (const SpherePair& p : pairs) {
+    out.push_back(s.spheres.cluster[p.i]);
+    out.push_back(s.spheres.cluster[p.j]);
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+template <int D>
+class TimeSteppingEngine final : public Engine<D> {
+ public:
+  explicit TimeSteppingEngine(const TimeSteppingSettings& settings) : settings_(settings) {}
+  std::string_view name() const override { return "ts"; }
+  RunResult run(State<D>& s, const StopCriteria& stop, RunObserver<D>& observer) override;
+
+ private:
+  void advect(State<D>& s, double dt);
+  void bin(const State<D>& s);
+  std::vector<SpherePair> overlapping_pairs(const State<D>& s) const;
+  int resolve(State<D>& s, std::vector<SpherePair> S);
+  GroupSolution<D> solve_with_backtracking(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
+  std::vector<CollisionGroup> groups(const State<D>& s, const std::vector<SpherePair>& S,
+                                     const std::vector<char>& dirty_pair);
+  void apply(const GroupSolution<D>& g, const CollisionGroup& group, std::vector<SpherePair>& S,
+             std::unordered_map<std::uint64_t, std::int32_t>& in_S, std::vector<int>& moved);
+  int find_new_pairs(const State<D>& s, std::vector<int>& moved, std::vector<SpherePair>& S,
+                     std::unordered_map<std::uint64_t, std::int32_t>& in_S, std::vector<char>& dirty_pair);
+  int commit(State<D>& s, const std::vector<SpherePair>& S);
+
+  TimeSteppingSettings settings_;
+  EngineCounters counters_;
+  std::optional<Box<D>> box_;
+  std::vector<Vec<D>> positions_;       // sphere centres at the current time, in the box
+  std::vector<Vec<D>> step_shift_;      // displacement of each sphere by this step's minimisation
+  std::vector<Vec<D>> flight_;          // displacement of each cluster by this step's free flight
+  std::optional<SortedCellList<D>> cells_;
+  double cell_slack_ = 0.0;             // how far a sphere may move before re-binning
+  AdhesiveLinks links_;
+  DisjointSets sets_;
+  double length_scale_ = 1.0, delta_w_ = 0.0, mean_mass_ = 1.0;
+  double last_residual_ = 0.0;          // largest overlap seen by the last find_new_pairs
+};
+
+template <int D>
+RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunObserver<D>& observer) {
+  using clock = std::chrono::steady_clock;
+  const auto started = clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - started).count(); };
+  const int n = s.n_spheres();
+  box_ = s.box;
+  length_scale_ = 2.0 * s.mean_radius();
+  delta_w_ = settings_.delta_w.value_or(4.0 * s.mean_radius());
+  mean_mass_ = s.total_mass() / n;
+  positions_.resize(n);
+  step_shift_.assign(n, Vec<D>::Zero());
+  cells_.emplace(s.box, (2.0 + kGridMargin) * s.max_radius(), n);
+  cell_slack_ = cells_->cell_size() - 2.0 * s.max_radius();
+  if (settings_.model != TsModel::rigid) links_ = AdhesiveLinks(n);
+  sets_ = DisjointSets(static_cast<int>(s.clusters.size()));
+  const TimeStepRule rule(settings_, s);
+
+  RunResult result;
+  observer.on_start(s);
+  while (true) {
+    if (s.n_clusters() <= stop.clusters) { result.reason = StopReason::clusters; break; }
+    if (elapsed() >= stop.wall_seconds) { result.reason = StopReason::wall_seconds; break; }
+    if (s.time >= stop.time) { result.reason = StopReason::time; break; }
+    const double dt = rule.next(s);
+    if (dt <= 0.0 || (counters_.steps % 64 == 0 && collisions_impossible(s))) {
+      result.reason = StopReason::no_collision_possible;
+      if (stop.time < kNever) { observer.before_event(s, stop.time); s.time = stop.time; }
+      break;
+    }
+    const double t = std::min(s.time + dt, stop.time);
+    observer.before_event(s, t);
+    advect(s, t - s.time);
+    bin(s);
+    const int merges = resolve(s, overlapping_pairs(s));
+    ++counters_.steps;
+    ++counters_.events;
+    EventRecord record;
+    record.time = s.time;
+    record.kind = EventKind::time_step;
+    record.merges = merges;
+    observer.after_event(s, record, counters_);
+  }
+  result.counters = counters_;
+  result.wall_seconds = elapsed();
+  observer.on_finish(s, result);
+  return result;
+}
+
+// Step 1 and 2: free flight (positions are lazy: O(1) per cluster), then walls.
+// Records each cluster's displacement (walls included), the way back for backtracking.
+template <int D>
+void TimeSteppingEngine<D>::advect(State<D>& s, double dt) {
+  const double before = s.time;
+  s.time += dt;
+  flight_.resize(s.clusters.size());
+  for (int c : s.alive_clusters()) {
+    const Vec<D> start = s.origin(c, before);
+    if (!s.box.periodic() && keep_inside_walls(s, c, s.time)) ++counters_.wall_bounces;
+    flight_[c] = s.origin(c, s.time) - start;
+  }
+}
+
+template <int D>
+void TimeSteppingEngine<D>::bin(const State<D>& s) {
+  const int n = s.n_spheres();
+#pragma omp parallel for schedule(static)
+  for (int i = 0; i < n; ++i) positions_[i] = s.position(i, s.time);
+  cells_->build(positions_);
+}
+
+// Step 3: pairs of spheres of different clusters that overlap or touch (phi >= 0).
+template <int D>
+std::vector<SpherePair> TimeSteppingEngine<D>::overlapping_pairs(const State<D>& s) const {
+  const std::vector<std::int32_t>& order = cells_->order();
+  const int n = static_cast<int>(order.size());
+  std::vector<std::vector<SpherePair>> found(max_threads());
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < n; ++k) {
+    const int i = order[k];
+    const int ci = s.spheres.cluster[i];
+    std::vector<SpherePair>& mine = found[thread_index()];
+    cells_->for_each_near(positions_[i], [&](int j) {
+      if (j <= i || s.spheres.cluster[j] == ci) return;
+      const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
+      if (s.box.separation(positions_[i], positions_[j]).squaredNorm() <= sigma * sigma) mine.push_back({i, j, 0.0});
+    });
+  }
+  std::vector<SpherePair> pairs;
+  for (const auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
+  // Sorted: the same list whatever the number of threads.
+  std::sort(pairs.begin(), pairs.end(), [](const SpherePair& a, const SpherePair& b) {
+    return a.i != b.i ? a.i < b.i : a.j < b.j;
+  });
+  return pairs;
+}
+
+// Step 4: the loop (3.1)-(3.2). Minimise over S, add the pairs the minimisation brought
+// into contact, repeat until S stops changing. Groups of clusters joined by S are
+// independent problems, solved in parallel; only groups that gained a pair are solved
+// again (the others are already at equilibrium). Step 5 (commit) merges and sets the
+// velocities.
+template <int D>
+int TimeSteppingEngine<D>::resolve(State<D>& s, std::vector<SpherePair> S) {
+  if (S.empty()) return 0;
+  std::unordered_map<std::uint64_t, std::int32_t> in_S;  // pair key -> index in S
+  for (std::size_t k = 0; k < S.size(); ++k) in_S.emplace(pair_key(S[k].i, S[k].j), static_cast<std::int32_t>(k));
+  std::vector<char> dirty(S.size(), 1);
+  std::vector<int> moved;
+  for (int round = 1;; ++round) {
+    const std::vector<CollisionGroup> gs = groups(s, S, dirty);
+    const ProblemContext<D> ctx{s, positions_, step_shift_, flight_, S, links_, settings_, length_scale_, delta_w_, mean_mass_};
+    std::vector<GroupSolution<D>> solutions(gs.size());
+#pragma omp parallel for schedule(dynamic)
+    for (std::size_t k = 0; k < gs.size(); ++k) solutions[k] = solve_with_backtracking(ctx, gs[k]);
+    for (std::size_t k = 0; k < gs.size(); ++k) apply(solutions[k], gs[k], S, in_S, moved);
+    dirty.assign(S.size(), 0);
+    for (const SpherePair& p : S) { moved.push_back(p.i); moved.push_back(p.j); }
+    if (find_new_pairs(s, moved, S, in_S, dirty) == 0) break;
+    if (round >= settings_.max_link_rounds) { ++counters_.rounds_exhausted; break; }
+    ++counters_.link_rounds;
+  }
+  counters_.max_residual_overlap = std::max(counters_.max_residual_overlap, last_residual_);
+  return commit(s, S);
+}
+
+// A group whose minimisation does not converge (typically a sphere that flew deep into a
+// pocket of another cluster, where no nearby configuration is free of overlaps) is solved
+// again from its free-flight positions moved back along the clusters' velocities by 1/2,
+// 3/4, 7/8 ... of the step. If none converges, the group is moved back to the instant of
+// its first contact (place_at_contact), which needs no minimisation.
+template <int D>
+GroupSolution<D> TimeSteppingEngine<D>::solve_with_backtracking(const ProblemContext<D>& ctx,
+                                                                const CollisionGroup& group) const {
+  GroupSolution<D> best = solve_group(ctx, group);
+  int attempts = 0;
+  std::int64_t iterations = best.result.iterations;
+  for (int k = 1; !best.result.converged && k <= kMaxBacktracks; ++k) {
+    best = solve_group(ctx, group, GroupStart{true, 1.0 - std::ldexp(1.0, -k)});
+    iterations += best.result.iterations;
+    attempts = k;
+  }
+  if (!best.result.converged) best = place_at_contact(ctx, group);
+  best.result.iterations = static_cast<int>(std::min<std::int64_t>(iterations, std::numeric_limits<int>::max()));
+  best.backtracks = attempts;
+  return best;
+}
+
+// The connected groups of clusters joined by S that contain a pair marked dirty, each
+// listed by increasing cluster id, in the order of their lowest cluster id.
+template <int D>
+std::vector<CollisionGroup> TimeSteppingEngine<D>::groups(const State<D>& s, const std::vector<SpherePair>& S,
+                                                           const std::vector<char>& dirty_pair) {
+  const std::vector<std::int32_t> touched = clusters_of(s, S);
+  for (int c : touched) sets_.reset(c);
+  for (const SpherePair& p : S)
+    if (p.active) sets_.unite(s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
+  std::map<int, CollisionGroup> by_root;
+  for (int c : touched) by_root[sets_.find(c)].clusters.push_back(c);
+  std::map<int, bool> dirty_root;
+  for (std::size_t k = 0; k < S.size(); ++k) {
+    if (!S[k].active) continue;
+    const int root = sets_.find(s.spheres.cluster[S[k].i]);
+    by_root[root].pairs.push_back(static_cast<std::int32_t>(k));
+    if (dirty_pair[k]) dirty_root[root] = true;
+  }
+  std::vector<CollisionGroup> out;
+  for (auto& [root, g] : by_root)
+    if (dirty_root.count(root)) out.push_back(std::move(g));
+  std::sort(out.begin(), out.end(), [](const CollisionGroup& a, const CollisionGroup& b) {
+    return a.clusters.front() < b.clusters.front();
+  });
+  return out;
+}
+
+template <int D>
+void TimeSteppingEngine<D>::apply(const GroupSolution<D>& g, const CollisionGroup& group, std::vector<SpherePair>& S,
+                                  std::unordered_map<std::uint64_t, std::int32_t>& in_S, std::vector<int>& moved) {
+  ++counters_.minimisations;
+  counters_.daha_iterations += g.result.iterations;
+  if (!g.result.converged) ++counters_.unconverged;
+  counters_.backtracks += g.backtracks;
+  counters_.max_link_stretch = std::max(counters_.max_link_stretch, g.link_stretch);
+  if (g.placed_at_contact) {
+    ++counters_.placed_at_contact;
+    for (int k : group.pairs) S[k].active = false;
+    for (const SpherePair& c : g.contacts) {
+      const auto [it, added] = in_S.emplace(pair_key(c.i, c.j), static_cast<std::int32_t>(S.size()));
+      if (added) S.push_back(c);
+      else S[it->second] = c;
+    }
+  } else {
+    for (std::size_t k = 0; k < group.pairs.size(); ++k) S[group.pairs[k]].lambda = g.pair_lambda[k];
+  }
+  for (const SpherePair& l : g.old_links) links_.add(l.i, l.j, l.lambda);
+  bool rebin = false;
+  const Box<D>& box = *box_;
+  for (std::size_t k = 0; k < g.spheres.size(); ++k) {
+    const int i = g.spheres[k];
+    positions_[i] = box.wrap(positions_[i] + g.shift[k]);
+    step_shift_[i] += g.shift[k];
+    rebin = rebin || step_shift_[i].norm() > cell_slack_;
+    moved.push_back(i);
+  }
+  if (rebin) cells_->build(positions_);
+}
+
+// (3.2): pairs brought to contact (phi >= 0) by the minimisation, not yet in S nor linked.
+// Also records the largest overlap left around the moved spheres.
+template <int D>
+int TimeSteppingEngine<D>::find_new_pairs(const State<D>& s, std::vector<int>& moved, std::vector<SpherePair>& S,
+                                          std::unordered_map<std::uint64_t, std::int32_t>& in_S,
+                                          std::vector<char>& dirty_pair) {
+  std::sort(moved.begin(), moved.end());
+  moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
+  const bool rigid = settings_.model == TsModel::rigid;
+  std::vector<SpherePair> found;
+  int reactivated = 0;
+  double residual = 0.0;
+  for (int i : moved) {
+    const int ci = s.spheres.cluster[i];
+    cells_->for_each_near(positions_[i], [&](int j) {
+      if (j == i || (rigid && s.spheres.cluster[j] == ci)) return;
+      const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
+      const double d = s.box.separation(positions_[i], positions_[j]).norm();
+      if (d > sigma) return;
+      residual = std::max(residual, 1.0 - d / sigma);
+      const auto known = in_S.find(pair_key(i, j));
+      const bool found_now = known != in_S.end() && known->second >= static_cast<std::int32_t>(S.size());
+      // An old link squeezed beyond eps_c joins S again, so that its group is solved again.
+      const bool settled_link = !rigid && links_.linked(i, j) && 1.0 - d / sigma <= settings_.daha.eps_c;
+      if (found_now || (known != in_S.end() && S[known->second].active) || settled_link) return;
+      if (known != in_S.end()) {  // replaced by a fall-back placement, overlapping again
+        S[known->second].active = true;
+        S[known->second].lambda = 0.0;
+        dirty_pair[known->second] = 1;
+        ++reactivated;
+        return;
+      }
+      in_S.emplace(pair_key(i, j), static_cast<std::int32_t>(S.size() + found.size()));
+      found.push_back({std::min(i, j), std::max(i, j), 0.0});
+    });
+  }
+  S.insert(S.end(), found.begin(), found.end());
+  dirty_pair.resize(S.size(), 1);
+  last_residual_ = residual;
+  return static_cast<int>(found.size()) + reactivated;
+}
+
+// Step 5: move the state's spheres to their minimised positions, merge the clusters joined
+// by S (velocities by rule 2.9, mass-weighted, pair by pair).
+template <int D>
+int TimeSteppingEngine<D>::commit(State<D>& s, const std::vector<SpherePair>& S) {
+  const std::vector<std::int32_t> touched = clusters_of(s, S);  // inactive pairs' too: they moved
+  for (int c : touched) {
+    const std::vector<std::int32_t>& members = s.clusters[c].members;
+    if (settings_.model == TsModel::rigid) {
+      const Vec<D> shift = step_shift_[members.front()];
+      if (shift != Vec<D>::Zero()) s.translate(c, shift, s.time);
+    } else {
+      for (int i : members) s.displace_sphere(i, step_shift_[i]);
+      s.refresh_extent(c);
+    }
+    for (int i : members) step_shift_[i].setZero();
+  }
+  // A pair of S becomes an adhesive link, and merges its clusters, when it touches after
+  // the minimisation: d <= sigma (1 + eps_c). (A rigid cluster held by several pairs can
+  // settle with some of them apart; those are not contacts.)
+  int merges = 0;
+  const double reach = 1.0 + settings_.daha.eps_c;
+  for (const SpherePair& p : S) {
+    if (!p.active) continue;
+    const double sigma = s.spheres.radius[p.i] + s.spheres.radius[p.j];
+    const double d = s.box.separation(s.unwrapped_position(p.i, s.time), s.unwrapped_position(p.j, s.time)).norm();
+    if (d > reach * sigma) continue;
+    if (settings_.model != TsModel::rigid) links_.add(p.i, p.j, p.lambda);
+    if (s.spheres.cluster[p.i] == s.spheres.cluster[p.j]) continue;
+    ++counters_.collisions;
+    s.merge(p.i, p.j, s.time);
+    ++merges;
+  }
+  counters_.merges += merges;
+  // A cluster the minimisation pushed partly through a wall is moved back at the start of
+  // the next step, before the overlap detection (moving it now could create overlaps).
+  return merges;
+}
+
+}  // namespace
+
+template <int D>
+std::unique_ptr<Engine<D>> make_time_stepping_engine(const TimeSteppingSettings& settings) {
+  return std::make_unique<TimeSteppingEngine<D>>(settings);
+}
+
+template std::unique_ptr<Engine<2>> make_time_stepping_engine<2>(const TimeSteppingSettings&);
+template std::unique_ptr<Engine<3>> make_time_stepping_engine<3>(const TimeSteppingSettings&);
+
+}  // namespace ballagg

@@ -1,0 +1,54 @@
+#pragma once
+// Parameters of the time-stepping engine (paper §3) and of its damped Arrow–Hurwicz
+// minimiser (DAHA, §3.2). Every number is dimensionless: lengths inside the minimiser are
+// measured in units of the mean contact distance 2 <R>, times in units of the step delta.
+// docs/time_stepping.md gives the meaning of each, how the defaults were tuned, and where
+// the machine-extracted formulas of the paper had to be re-derived.
+#include <optional>
+#include <string_view>
+
+namespace ballagg {
+
+// How clusters formed at earlier steps behave during the minimisation.
+enum class TsModel {
+  rigid,         // one displacement per old cluster (ours, closest to event-driven dynamics)
+  almost_rigid,  // every sphere moves; local attraction within delta_w, eqs (3.30)-(3.31)
+  non_rigid,     // every sphere moves; attraction along the adhesive links, eq (3.5)
+};
+
+// How the free-flight step is chosen.
+enum class TsDtRule {
+  growth,    // dt(0) = dt_factor L / max|V_i|, growing to dt_growth dt(0) at one cluster (Table 1)
+  adaptive,  // dt = R_max / max_k |V_Ck| at every step, eq (3.3)
+};
+
+struct DahaParameters {
+  double alpha = 0.033;       // alpha~ of (3.21): weight of the Lagrangian gradient in a velocity update
+  double gamma = 0.21;       // gamma~ of (3.21): weight of the phi * lambda * grad phi term
+  double delta = 0.27;       // delta of (3.20), (3.23): the artificial time step
+  double c_bar = 0.014;       // c-bar of (3.29): damping scale
+  double c_min = 0.06;       // lower bound of c_i: keeps the dynamics damped (stability, docs)
+  double c_max = 0.46;       // upper bound of the damping c_i (1 would freeze the spheres)
+  double beta_bar = 0.175;    // beta-bar of (3.29): multiplier growth scale
+  double beta_max = 0.07;    // upper bound of beta (reached when no constraint is violated)
+  double lambda0 = 0.24;     // lambda of (3.26): initial multiplier per unit overlap phi
+  double eps_s = 1e-4;      // (3.27): largest move of a sphere in one iteration, in diameters
+  double eps_c = 1e-3;      // (3.28): largest relative overlap left, 1 - d / (R_i + R_j)
+  int max_iterations = 3000;  // per minimisation; reaching it is counted, not an error
+};
+
+struct TimeSteppingSettings {
+  TsModel model = TsModel::rigid;
+  TsDtRule dt_rule = TsDtRule::growth;
+  double dt_factor = 0.01;
+  double dt_growth = 2.0;
+  // Range Delta_W of the local attraction (3.30), a length; default 4 <R> as in the paper.
+  std::optional<double> delta_w;
+  int max_link_rounds = 50;    // repetitions of (3.1)-(3.2) within one step before giving up
+  DahaParameters daha;
+};
+
+std::string_view to_string(TsModel m);
+std::string_view to_string(TsDtRule r);
+
+}  // namespace ballagg

@@ -1,0 +1,206 @@
+// The time-stepping engine (paper §3): analytic outcomes of simple collisions, conservation
+// laws, the stopping conditions of the minimiser after every step, the three cluster
+// models, determinism and independence of the thread count.
+#include <omp.h>
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "ballagg/engines/time_stepping/time_stepping_engine.hpp"
+#include "ballagg/io/state_csv.hpp"
+#include "support.hpp"
+
+namespace ballagg {
+namespace {
+using testing::Ball;
+using testing::make_state;
+using testing::Recorder;
+using testing::vec;
+using testing::worst_overlap;
+
+StopCriteria until(double t, int clusters = 0) {
+  StopCriteria s;
+  s.clusters = clusters;
+  s.time = t;
+  return s;
+}
+
+template <int D>
+RunResult run_ts(State<D>& s, const TimeSteppingSettings& ts, const StopCriteria& stop,
+                 RunObserver<D>* observer = nullptr) {
+  RunObserver<D> none;
+  return make_time_stepping_engine<D>(ts)->run(s, stop, observer ? *observer : none);
+}
+
+TimeSteppingSettings settings(TsModel model = TsModel::rigid, double dt_factor = 0.013) {
+  TimeSteppingSettings ts;
+  ts.model = model;
+  ts.dt_factor = dt_factor;
+  return ts;
+}
+
+template <int D>
+double distance(const State<D>& s, int i, int j) {
+  return s.box.separation(s.unwrapped_position(i, s.time), s.unwrapped_position(j, s.time)).norm();
+}
+
+class TimeStepping : public ::testing::TestWithParam<TsModel> {};
+INSTANTIATE_TEST_SUITE_P(Models, TimeStepping,
+                         ::testing::Values(TsModel::rigid, TsModel::almost_rigid, TsModel::non_rigid),
+                         [](const auto& info) {
+                           std::string name(to_string(info.param));
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name;
+                         });
+
+TEST_P(TimeStepping, HeadOnDiscsEndTouchingWithTheMassWeightedVelocity) {
+  // Masses 1 and 3 at speeds +1 and -1: the cluster moves at (1 - 3) / 4 = -0.5.
+  State<2> s = make_state<2>(10, Boundary::walls,
+                             {{vec<2>(3, 5), vec<2>(1, 0), 0.5, 1.0}, {vec<2>(7, 5), vec<2>(-1, 0), 0.5, 3.0}});
+  const TimeSteppingSettings ts = settings(GetParam());
+  const RunResult r = run_ts(s, ts, until(2.0, 1));
+  ASSERT_EQ(s.n_clusters(), 1);
+  EXPECT_EQ(r.reason, StopReason::clusters);
+  EXPECT_EQ(r.counters.merges, 1);
+  EXPECT_NEAR(distance(s, 0, 1), 1.0, ts.daha.eps_c);
+  EXPECT_DOUBLE_EQ(s.velocity(0)[0], -0.5);
+  EXPECT_DOUBLE_EQ(s.velocity(0)[1], 0.0);
+  // The minimiser moves each sphere in inverse proportion to its mass: the centre of mass
+  // is where free flight put it, x = (3 + t + 3 (7 - t)) / 4 = 6 - t / 2.
+  const double centre = (s.position(0, s.time)[0] + 3.0 * s.position(1, s.time)[0]) / 4.0;
+  EXPECT_NEAR(centre, 6.0 - s.time / 2.0, 1e-12);
+  EXPECT_NEAR(s.position(0, s.time)[1], 5.0, 1e-12);
+}
+
+TEST_P(TimeStepping, ThreeDiscsMeetingAtOnePointFormOneClusterAtRest) {
+  // Three discs aimed at the centre at 120 degrees: all three overlap in the same step.
+  std::vector<Ball<2>> balls;
+  for (int k = 0; k < 3; ++k) {
+    const double a = 2.0 * M_PI * k / 3.0;
+    const Vec<2> dir = vec<2>(std::cos(a), std::sin(a));
+    balls.push_back({vec<2>(10, 10) + 3.0 * dir, -dir, 0.5, 1.0});
+  }
+  State<2> s = make_state<2>(20, Boundary::walls, balls);
+  const TimeSteppingSettings ts = settings(GetParam(), 0.0123);
+  const RunResult r = run_ts(s, ts, until(10.0, 1));
+  ASSERT_EQ(s.n_clusters(), 1);
+  // Pairwise distance sqrt(3) r at distance r from the centre: contact at r = 1 / sqrt(3),
+  // t = 3 - 0.577 = 2.42, inside the 10th step of 0.0123 * 20 = 0.246.
+  EXPECT_EQ(r.counters.steps, 10);
+  EXPECT_LT(s.velocity(0).norm(), 1e-15);
+  for (int i = 0; i < 3; ++i)
+    for (int j = i + 1; j < 3; ++j) EXPECT_GE(distance(s, i, j), 1.0 - ts.daha.eps_c);
+  // Each disc touches at least one other: the cluster is connected.
+  for (int i = 0; i < 3; ++i)
+    EXPECT_LE(std::min(distance(s, i, (i + 1) % 3), distance(s, i, (i + 2) % 3)), 1.0 + 1e-2);
+}
+
+template <int D>
+void expect_invariants_every_step(TsModel model, Boundary boundary, int n, double vf, std::uint64_t seed) {
+  Config c = testing::small_config(D, n, vf, boundary, seed);
+  State<D> s = make_initial_state<D>(c);
+  const Vec<D> p0 = s.momentum();
+  const double scale = s.momentum_scale();
+  const double m0 = s.total_mass();
+  TimeSteppingSettings ts = settings(model);
+  Recorder<D> rec;
+  int clusters = s.n_clusters();
+  double worst = -1.0;
+  rec.check = [&](const State<D>& st, const EventRecord&) {
+    ASSERT_LE(st.n_clusters(), clusters);
+    clusters = st.n_clusters();
+    worst = std::max(worst, worst_overlap(st));
+  };
+  const RunResult r = run_ts(s, ts, until(1e9, n / 10), &rec);
+  EXPECT_EQ(r.reason, StopReason::clusters);
+  EXPECT_LE(worst, ts.daha.eps_c) << "overlap left after a step";
+  EXPECT_LE(r.counters.max_residual_overlap, ts.daha.eps_c);
+  EXPECT_EQ(r.counters.unconverged, 0);
+  EXPECT_DOUBLE_EQ(s.total_mass(), m0);
+  if (boundary == Boundary::periodic) {
+    EXPECT_LE((s.momentum() - p0).norm(), 1e-12 * scale);
+  }
+}
+
+// Per-sphere models solve larger problems: smaller systems keep the suite fast.
+int size_for(TsModel m, int rigid_size) { return m == TsModel::rigid ? rigid_size : rigid_size / 2; }
+
+TEST_P(TimeStepping, Invariants2DWalls) {
+  expect_invariants_every_step<2>(GetParam(), Boundary::walls, size_for(GetParam(), 200), 0.2, 3);
+}
+TEST_P(TimeStepping, Invariants2DPeriodic) {
+  expect_invariants_every_step<2>(GetParam(), Boundary::periodic, size_for(GetParam(), 200), 0.3, 4);
+}
+TEST_P(TimeStepping, Invariants3DWalls) {
+  expect_invariants_every_step<3>(GetParam(), Boundary::walls, size_for(GetParam(), 200), 0.2, 5);
+}
+TEST_P(TimeStepping, Invariants3DPeriodic) {
+  expect_invariants_every_step<3>(GetParam(), Boundary::periodic, size_for(GetParam(), 200), 0.2, 6);
+}
+
+TEST_P(TimeStepping, SameSeedGivesByteIdenticalStates) {
+  auto final_text = [&] {
+    State<2> s = make_initial_state<2>(testing::small_config(2, size_for(GetParam(), 300), 0.2, Boundary::periodic, 9));
+    run_ts(s, settings(GetParam()), until(1e9, 30));
+    return state_csv_text(s);
+  };
+  EXPECT_EQ(final_text(), final_text());
+}
+
+TEST_P(TimeStepping, ResultDoesNotDependOnTheThreadCount) {
+  auto final_text = [&](int threads) {
+    omp_set_num_threads(threads);
+    State<3> s = make_initial_state<3>(testing::small_config(3, size_for(GetParam(), 400), 0.2, Boundary::walls, 10));
+    run_ts(s, settings(GetParam()), until(1e9, 40));
+    return state_csv_text(s);
+  };
+  const std::string one = final_text(1), two = final_text(2);
+  omp_set_num_threads(omp_get_num_procs());
+  EXPECT_EQ(one, two);
+}
+
+TEST(TimeSteppingWalls, ClusterCrossingAWallIsMirroredAndReversed) {
+  // One disc at x = 9 moving right at speed 1 in a box of 10 with steps of 1: after the
+  // first step its edge is at 10.5, mirrored to 9.5 (centre 9), velocity reversed.
+  State<2> s = make_state<2>(10, Boundary::walls, {{vec<2>(9, 5), vec<2>(1, 0)}});
+  TimeSteppingSettings ts = settings(TsModel::rigid, 0.1);
+  ts.dt_growth = 1.0;
+  const RunResult r = run_ts(s, ts, until(1.0));
+  EXPECT_EQ(r.counters.wall_bounces, 1);
+  EXPECT_NEAR(s.position(0, s.time)[0], 9.0, 1e-12);
+  EXPECT_EQ(s.velocity(0), vec<2>(-1, 0));
+}
+
+TEST(TimeSteppingSteps, GrowthRuleReachesDtGrowthAtOneCluster) {
+  // Adaptive rule (3.3): dt = R_max / max |V| = 0.5 / 2.
+  State<2> s = make_state<2>(40, Boundary::periodic, {{vec<2>(5, 5), vec<2>(2, 0)}, {vec<2>(5, 25), vec<2>(0, 1)}});
+  TimeSteppingSettings ts = settings(TsModel::rigid, 0.01);
+  ts.dt_rule = TsDtRule::adaptive;
+  RunResult r = run_ts(s, ts, until(2.5));
+  EXPECT_EQ(r.counters.steps, 10);
+}
+
+TEST(TimeSteppingModels, RigidModelKeepsOldClustersRigid) {
+  // A glued chain of six discs hit side-on by three discs: in the rigid model the chain's
+  // spheres keep their relative positions exactly (up to round-off).
+  std::vector<Ball<2>> balls;
+  for (int k = 0; k < 6; ++k) balls.push_back({vec<2>(7.5 + k, 10), vec<2>(0, 0), 0.5, 1.0, 1});
+  for (int k = 0; k < 3; ++k) balls.push_back({vec<2>(8.2 + 1.7 * k, 13), vec<2>(0, -1), 0.5, 1.0});
+  State<2> s = make_state<2>(20, Boundary::walls, balls);
+  const TimeSteppingSettings ts = settings(TsModel::rigid);
+  run_ts(s, ts, until(10, 1));
+  ASSERT_EQ(s.n_clusters(), 1);
+  for (int k = 0; k + 1 < 6; ++k) EXPECT_NEAR(distance(s, k, k + 1), 1.0, 1e-12);
+  EXPECT_NEAR(distance(s, 0, 5), 5.0, 1e-12);
+  // Each of the three discs touches the chain or another disc.
+  for (int i = 6; i < 9; ++i) {
+    double nearest = 1e300;
+    for (int j = 0; j < 9; ++j)
+      if (j != i) nearest = std::min(nearest, distance(s, i, j));
+    EXPECT_NEAR(nearest, 1.0, ts.daha.eps_c);
+  }
+}
+
+}  // namespace
+}  // namespace ballagg
