@@ -31,8 +31,10 @@ class SortedCellList {
   }
 
   double cell_size() const { return cell_size_; }
-  // Item ids in cell order: iterating in this order visits neighbours close in memory.
+  // Item ids in cell order ("slots"): iterating in this order visits neighbours close in
+  // memory. sorted_position(slot) is the binned position of the item in that slot.
   const std::vector<std::int32_t>& order() const { return order_; }
+  const Vec<D>& sorted_position(int slot) const { return sorted_[slot]; }
 
   // Bins every item at x[id] (points in the box; those a round-off outside are clamped).
   void build(const std::vector<Vec<D>>& x) {
@@ -45,13 +47,24 @@ class SortedCellList {
     }
     for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
     order_.resize(n);
+    sorted_.resize(n);
     std::vector<std::int32_t> fill(start_.begin(), start_.end() - 1);
-    for (int i = 0; i < n; ++i) order_[fill[cell_[i]]++] = i;
+    for (int i = 0; i < n; ++i) {
+      const std::int32_t slot = fill[cell_[i]]++;
+      order_[slot] = i;
+      sorted_[slot] = x[i];
+    }
   }
 
   // Calls f(id) for every item binned in the cells adjacent to p (each cell once).
   template <class F>
   void for_each_near(const Vec<D>& p, F&& f) const {
+    for_each_slot_near(p, [&](std::int32_t slot) { f(order_[slot]); });
+  }
+
+  // Calls f(slot) for every slot of the cells adjacent to p (each cell once).
+  template <class F>
+  void for_each_slot_near(const Vec<D>& p, F&& f) const {
     std::array<std::array<int, 3>, D> coords;
     std::array<int, D> counts;
     for (int a = 0; a < D; ++a) counts[a] = neighbour_coords(coordinate(p[a]), coords[a]);
@@ -59,7 +72,7 @@ class SortedCellList {
     while (true) {
       std::int64_t cell = 0;
       for (int a = D - 1; a >= 0; --a) cell = cell * per_side_ + coords[a][k[a]];
-      for (std::int32_t s = start_[cell]; s < start_[cell + 1]; ++s) f(order_[s]);
+      for (std::int32_t s = start_[cell]; s < start_[cell + 1]; ++s) f(s);
       int a = 0;
       while (a < D && ++k[a] == counts[a]) k[a++] = 0;
       if (a == D) break;
@@ -90,6 +103,7 @@ class SortedCellList {
   std::vector<std::int32_t> start_;  // per cell: first slot in order_ (and one past the end)
   std::vector<std::int32_t> cell_;   // per item
   std::vector<std::int32_t> order_;  // item ids sorted by cell
+  std::vector<Vec<D>> sorted_;       // their positions, in the same order
 };
 
 }  // namespace ballagg

@@ -237,7 +237,7 @@ std::vector<std::pair<SpherePair, double>> cross_cluster_contacts(const ProblemC
 }
 
 // Bisection steps of place_at_contact: the instant is found to 2^-kBisections of the step.
-constexpr int kBisections = 48;
+constexpr int kBisections = 32;
 
 }  // namespace
 

@@ -39,7 +39,6 @@ struct GroupSolution {
   DahaResult result;
   int n_variables = 0;
   double link_stretch = 0.0;           // largest d / sigma - 1 over the old links (non-rigid models)
-  int backtracks = 0;                  // restarts from positions moved back along the velocities
   bool placed_at_contact = false;      // minimisation abandoned, group moved back to first contact
   std::vector<SpherePair> contacts;    // then: the touching pairs that replace the group's S pairs
 };
@@ -59,9 +58,8 @@ struct ProblemContext {
   double mean_mass;
 };
 
-// Where the group's spheres start the minimisation: their current centres, or, when
-// backtracking, where free flight put them moved back by the fraction `retreat` of this
-// step's flight (docs/time_stepping.md, "Backtracking").
+// Where the group's spheres start: their current centres, or (backtrack) where free flight
+// put them moved back by the fraction `retreat` of this step's flight.
 struct GroupStart {
   bool backtrack = false;
   double retreat = 0.0;

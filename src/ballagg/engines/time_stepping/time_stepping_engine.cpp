@@ -23,9 +23,8 @@ namespace {
 // kGridMargin R_max during the minimisation before the list must be rebuilt.
 constexpr double kGridMargin = 1.0;
 
-// Minimisations from positions moved back along the velocities before a group is placed at
-// its first contact instead.
-constexpr int kMaxBacktracks = 4;
+// Pairs of S in one round above which its groups are solved on several threads.
+constexpr std::size_t kParallelPairs = 2000;
 
 std::uint64_t pair_key(int i, int j) {
   if (i > j) std::swap(i, j);
@@ -57,7 +56,7 @@ class TimeSteppingEngine final : public Engine<D> {
   void bin(const State<D>& s);
   std::vector<SpherePair> overlapping_pairs(const State<D>& s) const;
   int resolve(State<D>& s, std::vector<SpherePair> S);
-  GroupSolution<D> solve_with_backtracking(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
+  GroupSolution<D> solve_or_place(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
   std::vector<CollisionGroup> groups(const State<D>& s, const std::vector<SpherePair>& S,
                                      const std::vector<char>& dirty_pair);
   void apply(const GroupSolution<D>& g, const CollisionGroup& group, std::vector<SpherePair>& S,
@@ -74,6 +73,7 @@ class TimeSteppingEngine final : public Engine<D> {
   std::vector<Vec<D>> flight_;          // displacement of each cluster by this step's free flight
   std::optional<SortedCellList<D>> cells_;
   double cell_slack_ = 0.0;             // how far a sphere may move before re-binning
+  bool stale_cells_ = false;            // some sphere moved farther than that this step
   AdhesiveLinks links_;
   DisjointSets sets_;
   double length_scale_ = 1.0, delta_w_ = 0.0, mean_mass_ = 1.0;
@@ -154,18 +154,27 @@ void TimeSteppingEngine<D>::bin(const State<D>& s) {
 // Step 3: pairs of spheres of different clusters that overlap or touch (phi >= 0).
 template <int D>
 std::vector<SpherePair> TimeSteppingEngine<D>::overlapping_pairs(const State<D>& s) const {
-  const std::vector<std::int32_t>& order = cells_->order();
+  const SortedCellList<D>& cells = *cells_;
+  const std::vector<std::int32_t>& order = cells.order();
   const int n = static_cast<int>(order.size());
+  // Cluster ids in slot order, so that the scan below reads contiguous memory only.
+  std::vector<std::int32_t> cluster_of_slot(n);
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < n; ++k) cluster_of_slot[k] = s.spheres.cluster[order[k]];
+  const double sigma = 2.0 * s.max_radius();  // checked exactly below when radii differ
   std::vector<std::vector<SpherePair>> found(max_threads());
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < n; ++k) {
-    const int i = order[k];
-    const int ci = s.spheres.cluster[i];
+    const Vec<D>& xk = cells.sorted_position(k);
+    const int ck = cluster_of_slot[k];
     std::vector<SpherePair>& mine = found[thread_index()];
-    cells_->for_each_near(positions_[i], [&](int j) {
-      if (j <= i || s.spheres.cluster[j] == ci) return;
-      const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
-      if (s.box.separation(positions_[i], positions_[j]).squaredNorm() <= sigma * sigma) mine.push_back({i, j, 0.0});
+    cells.for_each_slot_near(xk, [&](std::int32_t m) {
+      if (m <= k || cluster_of_slot[m] == ck) return;  // each pair once, other clusters only
+      const double d2 = s.box.separation(xk, cells.sorted_position(m)).squaredNorm();
+      if (d2 > sigma * sigma) return;
+      const int i = order[k], j = order[m];
+      const double contact = s.spheres.radius[i] + s.spheres.radius[j];
+      if (d2 <= contact * contact) mine.push_back({std::min(i, j), std::max(i, j), 0.0});
     });
   }
   std::vector<SpherePair> pairs;
@@ -193,9 +202,17 @@ int TimeSteppingEngine<D>::resolve(State<D>& s, std::vector<SpherePair> S) {
     const std::vector<CollisionGroup> gs = groups(s, S, dirty);
     const ProblemContext<D> ctx{s, positions_, step_shift_, flight_, S, links_, settings_, length_scale_, delta_w_, mean_mass_};
     std::vector<GroupSolution<D>> solutions(gs.size());
-#pragma omp parallel for schedule(dynamic)
-    for (std::size_t k = 0; k < gs.size(); ++k) solutions[k] = solve_with_backtracking(ctx, gs[k]);
+    std::size_t work = 0;
+    for (const CollisionGroup& g : gs) work += g.pairs.size();
+    // Threads pay off only when there is enough work to share (starting them costs more
+    // than solving a few small groups).
+#pragma omp parallel for schedule(dynamic) if (gs.size() > 1 && work >= kParallelPairs)
+    for (std::size_t k = 0; k < gs.size(); ++k) solutions[k] = solve_or_place(ctx, gs[k]);
     for (std::size_t k = 0; k < gs.size(); ++k) apply(solutions[k], gs[k], S, in_S, moved);
+    if (stale_cells_) {  // a sphere moved farther than the cells' slack: bin again
+      cells_->build(positions_);
+      stale_cells_ = false;
+    }
     dirty.assign(S.size(), 0);
     for (const SpherePair& p : S) { moved.push_back(p.i); moved.push_back(p.j); }
     if (find_new_pairs(s, moved, S, in_S, dirty) == 0) break;
@@ -206,26 +223,16 @@ int TimeSteppingEngine<D>::resolve(State<D>& s, std::vector<SpherePair> S) {
   return commit(s, S);
 }
 
-// A group whose minimisation does not converge (typically a sphere that flew deep into a
-// pocket of another cluster, where no nearby configuration is free of overlaps) is solved
-// again from its free-flight positions moved back along the clusters' velocities by 1/2,
-// 3/4, 7/8 ... of the step. If none converges, the group is moved back to the instant of
-// its first contact (place_at_contact), which needs no minimisation.
+// A group whose minimisation does not converge within max_iterations (typically a sphere
+// that flew deep into a pocket of another cluster, where no nearby configuration is free of
+// overlaps) is moved back to the instant of its first contact instead (place_at_contact).
 template <int D>
-GroupSolution<D> TimeSteppingEngine<D>::solve_with_backtracking(const ProblemContext<D>& ctx,
-                                                                const CollisionGroup& group) const {
-  GroupSolution<D> best = solve_group(ctx, group);
-  int attempts = 0;
-  std::int64_t iterations = best.result.iterations;
-  for (int k = 1; !best.result.converged && k <= kMaxBacktracks; ++k) {
-    best = solve_group(ctx, group, GroupStart{true, 1.0 - std::ldexp(1.0, -k)});
-    iterations += best.result.iterations;
-    attempts = k;
-  }
-  if (!best.result.converged) best = place_at_contact(ctx, group);
-  best.result.iterations = static_cast<int>(std::min<std::int64_t>(iterations, std::numeric_limits<int>::max()));
-  best.backtracks = attempts;
-  return best;
+GroupSolution<D> TimeSteppingEngine<D>::solve_or_place(const ProblemContext<D>& ctx, const CollisionGroup& group) const {
+  GroupSolution<D> solution = solve_group(ctx, group);
+  if (solution.result.converged) return solution;
+  GroupSolution<D> placed = place_at_contact(ctx, group);
+  placed.result.iterations = solution.result.iterations;
+  return placed;
 }
 
 // The connected groups of clusters joined by S that contain a pair marked dirty, each
@@ -261,7 +268,6 @@ void TimeSteppingEngine<D>::apply(const GroupSolution<D>& g, const CollisionGrou
   ++counters_.minimisations;
   counters_.daha_iterations += g.result.iterations;
   if (!g.result.converged) ++counters_.unconverged;
-  counters_.backtracks += g.backtracks;
   counters_.max_link_stretch = std::max(counters_.max_link_stretch, g.link_stretch);
   if (g.placed_at_contact) {
     ++counters_.placed_at_contact;
@@ -275,16 +281,14 @@ void TimeSteppingEngine<D>::apply(const GroupSolution<D>& g, const CollisionGrou
     for (std::size_t k = 0; k < group.pairs.size(); ++k) S[group.pairs[k]].lambda = g.pair_lambda[k];
   }
   for (const SpherePair& l : g.old_links) links_.add(l.i, l.j, l.lambda);
-  bool rebin = false;
   const Box<D>& box = *box_;
   for (std::size_t k = 0; k < g.spheres.size(); ++k) {
     const int i = g.spheres[k];
     positions_[i] = box.wrap(positions_[i] + g.shift[k]);
     step_shift_[i] += g.shift[k];
-    rebin = rebin || step_shift_[i].norm() > cell_slack_;
+    stale_cells_ = stale_cells_ || step_shift_[i].norm() > cell_slack_;
     moved.push_back(i);
   }
-  if (rebin) cells_->build(positions_);
 }
 
 // (3.2): pairs brought to contact (phi >= 0) by the minimisation, not yet in S nor linked.
