@@ -58,8 +58,7 @@ struct EngineCounters {
   std::int64_t steps = 0;
   std::int64_t minimisations = 0;      // DAHA solves (one per connected group per round)
   std::int64_t daha_iterations = 0;
-  std::int64_t unconverged = 0;        // minimisations that reached max_iterations
-  std::int64_t placed_at_contact = 0;  // groups placed at first contact after all restarts failed
+  std::int64_t placed_at_contact = 0;  // groups not converged in max_iterations, placed at first contact
   std::int64_t link_rounds = 0;        // repetitions of (3.1)-(3.2) beyond the first
   std::int64_t rounds_exhausted = 0;   // steps that reached max_link_rounds
   double max_residual_overlap = 0.0;   // largest relative overlap left after any step

@@ -108,7 +108,6 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
     j["steps"] = n.steps;
     j["minimisations"] = n.minimisations;
     j["daha_iterations"] = n.daha_iterations;
-    j["unconverged_minimisations"] = n.unconverged;
     j["placed_at_contact"] = n.placed_at_contact;
     j["link_rounds"] = n.link_rounds;
     j["link_rounds_exhausted"] = n.rounds_exhausted;

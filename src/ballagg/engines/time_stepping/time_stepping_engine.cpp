@@ -267,7 +267,6 @@ void TimeSteppingEngine<D>::apply(const GroupSolution<D>& g, const CollisionGrou
                                   std::unordered_map<std::uint64_t, std::int32_t>& in_S, std::vector<int>& moved) {
   ++counters_.minimisations;
   counters_.daha_iterations += g.result.iterations;
-  if (!g.result.converged) ++counters_.unconverged;
   counters_.max_link_stretch = std::max(counters_.max_link_stretch, g.link_stretch);
   if (g.placed_at_contact) {
     ++counters_.placed_at_contact;

@@ -1,0 +1,61 @@
+#!/usr/bin/python3
+"""Time-stepping (ts) and event-driven (ed) engines side by side, to a single cluster.
+
+For each volume fraction and N, runs both engines (several seeds, paper's set-up: 2D,
+lattice start, speed 1, walls) and prints a Markdown table with the median wall times,
+the TS work counters and the fitted growth exponents of both engines.
+
+Usage: bench/ts_vs_ed.py [--vfs 0.1 0.2 0.3] [--sizes 10000 100000] [--seeds 3]
+                         [--dt-factor 0.005] [--model rigid] [--set KEY=VALUE ...]
+Only the Python standard library is used.
+"""
+import argparse
+import os
+import sys
+from types import SimpleNamespace
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ed_scaling import BINARY, fit_exponent, run_once  # noqa: E402
+
+
+def median_run(engine, vf, n, args, extra):
+    ns = SimpleNamespace(vf=vf, boundary="walls", engine=engine, set=extra)
+    runs = sorted((run_once(2, n, seed, ns) for seed in range(1, args.seeds + 1)), key=lambda s: s["wall_seconds"])
+    return runs[len(runs) // 2]
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--vfs", type=float, nargs="+", default=[0.1, 0.2, 0.3])
+    p.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000, 100000])
+    p.add_argument("--seeds", type=int, default=3)
+    p.add_argument("--dt-factor", type=float, default=0.005)
+    p.add_argument("--model", default="rigid")
+    p.add_argument("--set", action="append", default=[])
+    args = p.parse_args()
+    if not os.path.exists(BINARY):
+        sys.exit(f"{BINARY} not found: run `make build` first")
+    ts_extra = [f"ts.dt_factor={args.dt_factor}", f"ts.model={args.model}"] + args.set
+    print(f"command: bench/ts_vs_ed.py {' '.join(sys.argv[1:])}".rstrip())
+    print(f"2D, walls, lattice start, speed 1, median of {args.seeds} seeds; ts model {args.model}, "
+          f"dt_factor {args.dt_factor}\n")
+    print("| Vf | N | ed (s) | ts (s) | ts / ed | ts steps | minimisations | DAHA iterations | placed at contact |"
+          " ts max residual overlap |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for vf in args.vfs:
+        ed_times, ts_times = [], []
+        for n in args.sizes:
+            ed = median_run("ed", vf, n, args, args.set)
+            ts = median_run("ts", vf, n, args, ts_extra)
+            ed_times.append(ed["wall_seconds"])
+            ts_times.append(ts["wall_seconds"])
+            print(f"| {vf} | {n} | {ed['wall_seconds']:.3f} | {ts['wall_seconds']:.3f} | "
+                  f"{ts['wall_seconds'] / ed['wall_seconds']:.2f} | {ts['steps']} | {ts['minimisations']} | "
+                  f"{ts['daha_iterations']} | {ts['placed_at_contact']} | {ts['max_residual_overlap']:.2g} |", flush=True)
+        if len(args.sizes) > 1:
+            print(f"| {vf} | exponent | {fit_exponent(args.sizes, ed_times):.3f} | {fit_exponent(args.sizes, ts_times):.3f}"
+                  " | | | | | | |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
