@@ -67,6 +67,48 @@ class CellGrid {
     }
   }
 
+  // As for_each_near, but f(id, image) gets the image of the binned position next to p's
+  // cell: the nearest image whenever it lies within one cell of p. Comparing it with p
+  // needs no minimum-image rounding (the hot path of list rebuilds): with three or more
+  // cells a side, each neighbour cell is one image of a box cell, shifted by -L, 0 or L.
+  template <class F>
+  void for_each_near_image(const Vec<D>& p, F&& f) const {
+    if (box_.periodic() && per_side_ < 3) {
+      for_each_near(p, [&](int id, const Vec<D>& x) { f(id, Vec<D>(p - box_.separation(p, x))); });
+      return;
+    }
+    std::array<std::array<std::int64_t, 3>, D> stride;  // cell index term of each neighbour
+    std::array<std::array<double, 3>, D> shift;
+    std::array<int, D> counts;
+    std::int64_t step = 1;
+    for (int a = 0; a < D; ++a) {
+      const int c = coordinate(p[a]);
+      counts[a] = 0;
+      for (int d = -1; d <= 1; ++d) {
+        int x = c + d;
+        double offset = 0.0;
+        if (x < 0 || x >= per_side_) {
+          if (!box_.periodic()) continue;
+          offset = x < 0 ? -box_.length : box_.length;
+          x = x < 0 ? x + per_side_ : x - per_side_;
+        }
+        stride[a][counts[a]] = x * step;
+        shift[a][counts[a]++] = offset;
+      }
+      step *= per_side_;
+    }
+    std::array<int, D> k{};
+    while (true) {
+      std::int64_t cell = 0;
+      Vec<D> offset;
+      for (int a = 0; a < D; ++a) cell += stride[a][k[a]], offset[a] = shift[a][k[a]];
+      for (std::int32_t id = head_[cell]; id >= 0; id = node_[id].next) f(id, Vec<D>(node_[id].position + offset));
+      int a = 0;
+      while (a < D && ++k[a] == counts[a]) k[a++] = 0;
+      if (a == D) break;
+    }
+  }
+
  private:
   // Truncation equals floor for x >= 0; points a round-off outside the box are clamped.
   int coordinate(double x) const { return std::clamp(static_cast<int>(x / cell_size_), 0, per_side_ - 1); }

@@ -58,9 +58,8 @@ class EventDrivenCore {
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) reset_drift(c, s_.time);
     for (int i = 0; i < n; ++i)
-      for_each_foreign_near(i, s_.time, [&](int j) {
-        if (j > i) lists_.add_pair(i, j, s_.spheres.cluster.data());
-      });
+      for_each_foreign_near(i, s_.time, [&](int j) { return j > i; },
+                            [&](int j) { lists_.add_pair(i, j, s_.spheres.cluster.data()); });
     for (int c : s_.alive_clusters()) rebuild_at_[c] = rebuild_time(c);
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) predict(c, /*skip_lower_clusters=*/true);
@@ -135,20 +134,21 @@ class EventDrivenCore {
     return k.anchor_time + (b <= 0.0 ? (root - b) / a : -cc / (b + root));
   }
 
-  // Calls found(j) for every foreign sphere j within sigma + skin of sphere i at time t.
+  // Calls found(j) for every foreign sphere j within sigma + skin of sphere i at time t
+  // for which wanted(j) holds (asked first: it is cheaper than reading j's cluster).
   // The grid holds each sphere where it was binned, at most skin / 2 from where it is now,
   // so spheres binned farther than R_i + R_max + 1.5 skin away are rejected at once.
-  template <class Found>
-  void for_each_foreign_near(int i, double t, Found&& found) const {
+  template <class Wanted, class Found>
+  void for_each_foreign_near(int i, double t, Wanted&& wanted, Found&& found) const {
     const std::int32_t* cluster = s_.spheres.cluster.data();
     const int ci = cluster[i];
     const Vec<D> xi = s_.unwrapped_position(i, t);
     const Vec<D> xi_folded = s_.box.wrap(xi);
     const double ri = s_.spheres.radius[i];
     const double binned_reach = ri + s_.max_radius() + 1.5 * skin_;
-    grid_.for_each_near(xi_folded, [&](int j, const Vec<D>& binned) {
-      if (s_.box.separation(xi_folded, binned).squaredNorm() >= binned_reach * binned_reach) return;
-      if (cluster[j] == ci) return;
+    grid_.for_each_near_image(xi_folded, [&](int j, const Vec<D>& binned) {
+      if ((xi_folded - binned).squaredNorm() >= binned_reach * binned_reach) return;
+      if (cluster[j] == ci || !wanted(j)) return;
       if (within_reach(i, xi, j, t)) found(j);
     });
   }
@@ -177,8 +177,7 @@ class EventDrivenCore {
     rebuild_at_[c] = rebuild_time(c);
     batch_.clear();
     for (int i : k.members) {
-      for_each_foreign_near(i, t, [&](int j) {
-        if (lists_.listed(i, j)) return;
+      for_each_foreign_near(i, t, [&](int j) { return !lists_.listed(i, j); }, [&](int j) {
         lists_.add_pair(i, j, cluster);
         if (auto e = pair_event(i, j)) batch_.push_back(*e);
       });
