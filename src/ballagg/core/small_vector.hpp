@@ -44,7 +44,9 @@ class alignas(Align) SmallVector {
   const T* data() const { return spilled() ? heap_ : in_place_; }
   T& operator[](std::int32_t k) { return data()[k]; }
   const T& operator[](std::int32_t k) const { return data()[k]; }
+  const T& front() const { return data()[0]; }
   T& back() { return data()[size_ - 1]; }
+  const T& back() const { return data()[size_ - 1]; }
   T* begin() { return data(); }
   T* end() { return data() + size_; }
   const T* begin() const { return data(); }

@@ -221,7 +221,7 @@ class EventDrivenCore {
         if (auto e = pair_event(i, j)) batch_.push_back(*e);
       }
     }
-    calendar_.refile(c, std::move(batch_));
+    calendar_.refile(c, batch_);
     count_.queue_peak = std::max<std::int64_t>(count_.queue_peak, calendar_.size());
   }
 
