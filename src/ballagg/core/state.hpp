@@ -82,7 +82,8 @@ class State {
 
   // Merges the clusters of the touching spheres i and j at time t into one rigid cluster
   // moving with the mass-weighted mean velocity (rule 2.9). The larger cluster (the one
-  // with the lower id on a tie) survives and is returned; the other is left empty.
+  // with the lower id on a tie) survives and is returned; the other is left empty. The
+  // absorbed spheres are appended to the survivor's members.
   int merge(int i, int j, double t);
 
   // True when cluster c spans the box along axis a (walls only): it cannot move along a.

@@ -50,6 +50,8 @@ class EventDrivenCore {
         grid_(state.box, 2.0 * state.max_radius() + 1.5 * skin_, state.n_spheres()) {
     const int n = s_.n_spheres();
     const int m = static_cast<int>(s_.clusters.size());
+    sphere_.resize(n);
+    for (int i = 0; i < n; ++i) refresh_sphere(i);
     drift_.assign(m, Drift{});
     rebuild_at_.assign(m, kNever);
     lists_.reset(n, m);
@@ -98,7 +100,7 @@ class EventDrivenCore {
 
   bool valid(const Event& e) const {
     if (e.kind == EventKind::collision) {
-      return s_.cluster_of(e.a).stamp == e.stamp_a && s_.cluster_of(e.b).stamp == e.stamp_b;
+      return cluster_of(e.a).stamp == e.stamp_a && cluster_of(e.b).stamp == e.stamp_b;
     }
     return s_.clusters[e.a].stamp == e.stamp_a;
   }
@@ -140,22 +142,21 @@ class EventDrivenCore {
   // so spheres binned farther than R_i + R_max + 1.5 skin away are rejected at once.
   template <class Wanted, class Found>
   void for_each_foreign_near(int i, double t, Wanted&& wanted, Found&& found) const {
-    const std::int32_t* cluster = s_.spheres.cluster.data();
-    const int ci = cluster[i];
-    const Vec<D> xi = s_.unwrapped_position(i, t);
+    const int ci = sphere_[i].cluster;
+    const Vec<D> xi = unwrapped_position(i, t);
     const Vec<D> xi_folded = s_.box.wrap(xi);
-    const double ri = s_.spheres.radius[i];
+    const double ri = sphere_[i].radius;
     const double binned_reach = ri + s_.max_radius() + 1.5 * skin_;
     grid_.for_each_near_image(xi_folded, [&](int j, const Vec<D>& binned) {
       if ((xi_folded - binned).squaredNorm() >= binned_reach * binned_reach) return;
-      if (cluster[j] == ci || !wanted(j)) return;
+      if (sphere_[j].cluster == ci || !wanted(j)) return;
       if (within_reach(i, xi, j, t)) found(j);
     });
   }
 
   bool within_reach(int i, const Vec<D>& xi, int j, double t) const {
-    const double reach = s_.spheres.radius[i] + s_.spheres.radius[j] + skin_;
-    return s_.box.separation(xi, s_.unwrapped_position(j, t)).squaredNorm() < reach * reach;
+    const double reach = sphere_[i].radius + sphere_[j].radius + skin_;
+    return s_.box.separation(xi, unwrapped_position(j, t)).squaredNorm() < reach * reach;
   }
 
   EventRecord rebuild(int c, double t) {
@@ -165,14 +166,14 @@ class EventDrivenCore {
     // into the hole, so walking each list from its end visits every entry once.
     for (auto e = static_cast<std::ptrdiff_t>(lists_.exposed(c).size()) - 1; e >= 0; --e) {
       const int i = lists_.exposed(c)[e];
-      const Vec<D> xi = s_.unwrapped_position(i, t);
+      const Vec<D> xi = unwrapped_position(i, t);
       for (auto p = static_cast<std::ptrdiff_t>(lists_.partners(i).size()) - 1; p >= 0; --p) {
         const int j = lists_.partners(i)[p];
         if (!within_reach(i, xi, j, t)) lists_.remove_pair(i, j, cluster);
       }
     }
     // Re-bin, then list and predict the pairs that came into reach.
-    for (int i : k.members) grid_.move(i, s_.position(i, t));
+    for (int i : k.members) grid_.move(i, s_.box.wrap(unwrapped_position(i, t)));
     reset_drift(c, t);
     rebuild_at_[c] = rebuild_time(c);
     batch_.clear();
@@ -195,13 +196,15 @@ class EventDrivenCore {
   // periodic image walk stops at the earlier list rebuild of the two clusters: a contact
   // through a farther image needs the pair to leave and re-enter the lists first.
   std::optional<Event> pair_event(int i, int j) {
-    const int ci = s_.spheres.cluster[i], cj = s_.spheres.cluster[j];
-    const double limit = std::min(rebuild_at_[ci], rebuild_at_[cj]);
-    const double t = predicted_contact(s_, i, j, s_.time, limit);
+    const SphereFields& si = sphere_[i];
+    const SphereFields& sj = sphere_[j];
+    const double limit = std::min(rebuild_at_[si.cluster], rebuild_at_[sj.cluster]);
+    const double t = predicted_contact(s_.box, s_.clusters[si.cluster], si.offset, s_.clusters[sj.cluster], sj.offset,
+                                       si.radius + sj.radius, s_.time, limit);
     ++count_.pair_predictions;
     if (t == kNever) return std::nullopt;
     const int lo = std::min(i, j), hi = std::max(i, j);
-    return Event{t, lo, hi, s_.cluster_of(lo).stamp, s_.cluster_of(hi).stamp, EventKind::collision};
+    return Event{t, lo, hi, cluster_of(lo).stamp, cluster_of(hi).stamp, EventKind::collision};
   }
 
   // Files the next wall contact, list rebuild and pair contacts of cluster c, replacing
@@ -213,10 +216,9 @@ class EventDrivenCore {
     if (w.time < kNever) batch_.push_back({w.time, c, w.axis, k.stamp, 0, EventKind::wall});
     rebuild_at_[c] = rebuild_time(c);
     if (rebuild_at_[c] < kNever) batch_.push_back({rebuild_at_[c], c, 0, k.stamp, 0, EventKind::list_rebuild});
-    const std::int32_t* cluster = s_.spheres.cluster.data();
     for (int i : lists_.exposed(c)) {
       for (int j : lists_.partners(i)) {
-        const int d = cluster[j];
+        const int d = sphere_[j].cluster;
         if (d == skip_cluster || (skip_lower_clusters && d < c)) continue;
         if (auto e = pair_event(i, j)) batch_.push_back(*e);
       }
@@ -264,8 +266,11 @@ class EventDrivenCore {
   int stick(int i, int j, double t) {
     const int a = s_.spheres.cluster[i], b = s_.spheres.cluster[j];
     const double slack = std::max(drift(a, t), drift(b, t));
+    const int absorbed = std::min(s_.clusters[a].size(), s_.clusters[b].size());
     const int keep = s_.merge(i, j, t);
     const int gone = keep == a ? b : a;
+    const std::vector<std::int32_t>& members = s_.clusters[keep].members;  // absorbed ones last
+    for (auto m = members.end() - absorbed; m != members.end(); ++m) refresh_sphere(*m);
     lists_.absorb(keep, gone, s_.spheres.cluster.data());
     calendar_.forget(gone);
     drift_[keep] = {Vec<D>::Zero(), slack};
@@ -286,8 +291,25 @@ class EventDrivenCore {
     return best;
   }
 
+  // ---- sphere fields ---------------------------------------------------------------------
+
+  // The fields of a sphere that every prediction and list scan reads, side by side: the
+  // state keeps them in three arrays, three cache misses per sphere at large N. They change
+  // only when the sphere's cluster is absorbed by another (stick()).
+  struct SphereFields {
+    Vec<D> offset;
+    double radius;
+    std::int32_t cluster;
+  };
+  void refresh_sphere(int i) { sphere_[i] = {s_.spheres.offset[i], s_.spheres.radius[i], s_.spheres.cluster[i]}; }
+  const Cluster<D>& cluster_of(int i) const { return s_.clusters[sphere_[i].cluster]; }
+  Vec<D> unwrapped_position(int i, double t) const {
+    return position_in(cluster_of(i), sphere_[i].offset, t);
+  }
+
   State<D>& s_;
   CollisionSettings law_;
+  std::vector<SphereFields> sphere_;
   double skin_;
   CellGrid<D> grid_;
   NeighborLists lists_;
