@@ -41,6 +41,11 @@ class CellGrid {
     node_[id].position = p;
     link(id, cell_index(p));
   }
+  // Every item carries a tag (0 unless set) that for_each_near_image can skip on: the
+  // engine tags spheres with their cluster, so that a big cluster's own spheres, most of
+  // what a scan around its members meets, are passed over without reading anything else.
+  void set_tag(int id, std::int32_t tag) { node_[id].tag = tag; }
+
   void move(int id, const Vec<D>& p) {
     node_[id].position = p;
     const std::int32_t c = cell_index(p);
@@ -67,14 +72,17 @@ class CellGrid {
     }
   }
 
-  // As for_each_near, but f(id, image) gets the image of the binned position next to p's
-  // cell: the nearest image whenever it lies within one cell of p. Comparing it with p
-  // needs no minimum-image rounding (the hot path of list rebuilds): with three or more
-  // cells a side, each neighbour cell is one image of a box cell, shifted by -L, 0 or L.
+  // As for_each_near, skipping the items tagged skip_tag, but f(id, image) gets the image
+  // of the binned position next to p's cell: the nearest image whenever it lies within one
+  // cell of p. Comparing it with p needs no minimum-image rounding (the hot path of list
+  // rebuilds): with three or more cells a side, each neighbour cell is one image of a box
+  // cell, shifted by -L, 0 or L.
   template <class F>
-  void for_each_near_image(const Vec<D>& p, F&& f) const {
+  void for_each_near_image(const Vec<D>& p, std::int32_t skip_tag, F&& f) const {
     if (box_.periodic() && per_side_ < 3) {
-      for_each_near(p, [&](int id, const Vec<D>& x) { f(id, Vec<D>(p - box_.separation(p, x))); });
+      for_each_near(p, [&](int id, const Vec<D>& x) {
+        if (node_[id].tag != skip_tag) f(id, Vec<D>(p - box_.separation(p, x)));
+      });
       return;
     }
     std::array<std::array<std::int64_t, 3>, D> stride;  // cell index term of each neighbour
@@ -102,7 +110,8 @@ class CellGrid {
       std::int64_t cell = 0;
       Vec<D> offset;
       for (int a = 0; a < D; ++a) cell += stride[a][k[a]], offset[a] = shift[a][k[a]];
-      for (std::int32_t id = head_[cell]; id >= 0; id = node_[id].next) f(id, Vec<D>(node_[id].position + offset));
+      for (std::int32_t id = head_[cell]; id >= 0; id = node_[id].next)
+        if (node_[id].tag != skip_tag) f(id, Vec<D>(node_[id].position + offset));
       int a = 0;
       while (a < D && ++k[a] == counts[a]) k[a++] = 0;
       if (a == D) break;
@@ -151,6 +160,7 @@ class CellGrid {
   struct Node {
     Vec<D> position = Vec<D>::Zero();
     std::int32_t next = -1, prev = -1, cell = -1;
+    std::int32_t tag = 0;  // fills the padding of the node in 2D and 3D
   };
   std::vector<std::int32_t> head_;  // per cell: first item, or -1
   std::vector<Node> node_;          // per item

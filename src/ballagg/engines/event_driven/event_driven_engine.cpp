@@ -58,7 +58,10 @@ class EventDrivenCore {
     rebuild_at_.assign(m, kNever);
     lists_.reset(n, m);
     calendar_.reset(m);
-    for (int i = 0; i < n; ++i) grid_.insert(i, s_.position(i, s_.time));
+    for (int i = 0; i < n; ++i) {
+      grid_.insert(i, s_.position(i, s_.time));
+      grid_.set_tag(i, sphere_[i].cluster);
+    }
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) reset_drift(c, s_.time);
     for (int i = 0; i < n; ++i)
@@ -149,9 +152,9 @@ class EventDrivenCore {
     const Vec<D> xi_folded = s_.box.wrap(xi);
     const double ri = sphere_[i].radius;
     const double binned_reach = ri + s_.max_radius() + 1.5 * skin_;
-    grid_.for_each_near_image(xi_folded, [&](int j, const Vec<D>& binned) {
+    grid_.for_each_near_image(xi_folded, ci, [&](int j, const Vec<D>& binned) {
       if ((xi_folded - binned).squaredNorm() >= binned_reach * binned_reach) return;
-      if (sphere_[j].cluster == ci || !wanted(j)) return;
+      if (!wanted(j)) return;
       if (within_reach(i, xi, j, t)) found(j);
     });
   }
@@ -287,7 +290,10 @@ class EventDrivenCore {
     const int keep = s_.merge(i, j, t);
     const int gone = keep == a ? b : a;
     const std::vector<std::int32_t>& members = s_.clusters[keep].members;  // absorbed ones last
-    for (auto m = members.end() - absorbed; m != members.end(); ++m) refresh_sphere(*m);
+    for (auto m = members.end() - absorbed; m != members.end(); ++m) {
+      refresh_sphere(*m);
+      grid_.set_tag(*m, keep);
+    }
     lists_.absorb(keep, gone, s_.spheres.cluster.data());
     calendar_.forget(gone);
     drift_[keep] = {Vec<D>::Zero(), slack};
