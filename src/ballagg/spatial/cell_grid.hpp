@@ -30,6 +30,7 @@ class CellGrid {
     std::int64_t cells = 1;
     for (int a = 0; a < D; ++a) cells *= per_side_;
     head_.assign(cells, -1);
+    cell_tag_.assign(cells, kMixed);
     node_.assign(n_items, Node{});
   }
 
@@ -41,10 +42,14 @@ class CellGrid {
     node_[id].position = p;
     link(id, cell_index(p));
   }
-  // Every item carries a tag (0 unless set) that for_each_near_image can skip on: the
-  // engine tags spheres with their cluster, so that a big cluster's own spheres, most of
-  // what a scan around its members meets, are passed over without reading anything else.
-  void set_tag(int id, std::int32_t tag) { node_[id].tag = tag; }
+  // Every item carries a tag >= 0 (0 unless set) that for_each_near_image can skip on:
+  // the engine tags spheres with their cluster, so that a big cluster's own spheres, most
+  // of what a scan around its members meets, are passed over without reading anything
+  // else, and a cell holding nothing but them is not even walked.
+  void set_tag(int id, std::int32_t tag) {
+    node_[id].tag = tag;
+    if (node_[id].cell >= 0) retag_cell(node_[id].cell);
+  }
 
   void move(int id, const Vec<D>& p) {
     node_[id].position = p;
@@ -110,8 +115,10 @@ class CellGrid {
       std::int64_t cell = 0;
       Vec<D> offset;
       for (int a = 0; a < D; ++a) cell += stride[a][k[a]], offset[a] = shift[a][k[a]];
-      for (std::int32_t id = head_[cell]; id >= 0; id = node_[id].next)
-        if (node_[id].tag != skip_tag) f(id, Vec<D>(node_[id].position + offset));
+      if (cell_tag_[cell] != skip_tag) {
+        for (std::int32_t id = head_[cell]; id >= 0; id = node_[id].next)
+          if (node_[id].tag != skip_tag) f(id, Vec<D>(node_[id].position + offset));
+      }
       int a = 0;
       while (a < D && ++k[a] == counts[a]) k[a++] = 0;
       if (a == D) break;
@@ -142,6 +149,7 @@ class CellGrid {
   }
   void link(int id, std::int32_t c) {
     Node& n = node_[id];
+    cell_tag_[c] = head_[c] < 0 || cell_tag_[c] == n.tag ? n.tag : kMixed;
     n.cell = c;
     n.prev = -1;
     n.next = head_[c];
@@ -152,6 +160,14 @@ class CellGrid {
     const Node& n = node_[id];
     if (n.prev >= 0) node_[n.prev].next = n.next; else head_[n.cell] = n.next;
     if (n.next >= 0) node_[n.next].prev = n.prev;
+    if (cell_tag_[n.cell] == kMixed) retag_cell(n.cell);
+  }
+  // The tag all items of cell c share, or kMixed (cells hold a few items: a short walk).
+  void retag_cell(std::int32_t c) {
+    std::int32_t tag = head_[c] >= 0 ? node_[head_[c]].tag : kMixed;
+    for (std::int32_t id = head_[c]; id >= 0 && tag != kMixed; id = node_[id].next)
+      if (node_[id].tag != tag) tag = kMixed;
+    cell_tag_[c] = tag;
   }
 
   Box<D> box_;
@@ -162,7 +178,9 @@ class CellGrid {
     std::int32_t next = -1, prev = -1, cell = -1;
     std::int32_t tag = 0;  // fills the padding of the node in 2D and 3D
   };
-  std::vector<std::int32_t> head_;  // per cell: first item, or -1
+  static constexpr std::int32_t kMixed = -1;
+  std::vector<std::int32_t> head_;      // per cell: first item, or -1
+  std::vector<std::int32_t> cell_tag_;  // per cell: the tag of all its items, or kMixed
   std::vector<Node> node_;          // per item
 };
 
