@@ -113,9 +113,10 @@ class CellGrid {
     std::array<int, D> k{};
     while (true) {
       std::int64_t cell = 0;
-      Vec<D> offset;
-      for (int a = 0; a < D; ++a) cell += stride[a][k[a]], offset[a] = shift[a][k[a]];
+      for (int a = 0; a < D; ++a) cell += stride[a][k[a]];
       if (cell_tag_[cell] != skip_tag) {
+        Vec<D> offset;
+        for (int a = 0; a < D; ++a) offset[a] = shift[a][k[a]];
         for (std::int32_t id = head_[cell]; id >= 0; id = node_[id].next)
           if (node_[id].tag != skip_tag) f(id, Vec<D>(node_[id].position + offset));
       }
