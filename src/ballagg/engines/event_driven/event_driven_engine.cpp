@@ -34,8 +34,8 @@
 #include <span>
 
 #include "ballagg/collision/prediction.hpp"
-#include "ballagg/core/prefetch.hpp"
 #include "ballagg/collision/resolve.hpp"
+#include "ballagg/core/prefetch.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
 #include "ballagg/engines/event_driven/event_calendar.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
@@ -142,9 +142,10 @@ class EventDrivenCore {
   }
 
   // Calls found(j) for every foreign sphere j within sigma + skin of sphere i at time t
-  // for which wanted(j) holds (asked first: it is cheaper than reading j's cluster).
-  // The grid holds each sphere where it was binned, at most skin / 2 from where it is now,
-  // so spheres binned farther than R_i + R_max + 1.5 skin away are rejected at once.
+  // for which wanted(j) holds (asked before the exact distance, which is dearer). The grid
+  // tags each sphere with its cluster, so i's own cluster is skipped there; it holds each
+  // sphere where it was binned, at most skin / 2 from where it is now, so spheres binned
+  // farther than R_i + R_max + 1.5 skin away are rejected at once.
   template <class Wanted, class Found>
   void for_each_foreign_near(int i, double t, Wanted&& wanted, Found&& found) const {
     const int ci = sphere_[i].cluster;
