@@ -35,7 +35,8 @@ void BM_CalendarPopRefile(benchmark::State& state) {
   std::vector<Event> batch;
   auto refile = [&](int c, double now) {
     for (int k = 0; k < 4; ++k) batch.push_back({now + rng.uniform(), c, k, 0, 0, EventKind::collision});
-    calendar.refile(c, std::move(batch));
+    calendar.refile(c, batch);
+    batch.clear();
   };
   for (int c = 0; c < clusters; ++c) refile(c, 0.0);
   for (auto _ : state) {

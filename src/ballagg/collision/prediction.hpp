@@ -16,24 +16,32 @@ namespace ballagg {
 // many images without touching one is treated as never touching).
 inline constexpr int kMaxImagesWalked = 10000;
 
-// Absolute time at which spheres i and j (of different clusters) first touch, or kNever.
+// Where a sphere with body-frame offset `offset` in cluster k is at time t, not folded
+// into the box: the arithmetic of State::unwrapped_position, for callers that keep the
+// sphere's fields elsewhere.
+template <int D>
+Vec<D> position_in(const Cluster<D>& k, const Vec<D>& offset, double t) {
+  const Vec<D> origin = k.anchor + (t - k.anchor_time) * k.velocity;
+  return origin + offset;
+}
+
+// Absolute time at which two spheres of different clusters first touch, or kNever: sphere
+// i at `offset_i` in cluster ci, sphere j at `offset_j` in cluster cj, sigma = R_i + R_j.
 // `now` is the present time and `limit` a time after which the answer is not needed
 // (kNever may then be returned). The value returned for a contact before `limit` does not
 // depend on `now` or `limit`: both event-driven engines compute it bit for bit alike.
 template <int D>
-double predicted_contact(const State<D>& s, int i, int j, double now, double limit = kNever) {
-  const Cluster<D>& ci = s.cluster_of(i);
-  const Cluster<D>& cj = s.cluster_of(j);
+double predicted_contact(const Box<D>& box, const Cluster<D>& ci, const Vec<D>& offset_i, const Cluster<D>& cj,
+                         const Vec<D>& offset_j, double sigma, double now, double limit) {
   const double t0 = std::max(ci.anchor_time, cj.anchor_time);
-  const Vec<D> dx = s.unwrapped_position(i, t0) - s.unwrapped_position(j, t0);
+  const Vec<D> dx = position_in(ci, offset_i, t0) - position_in(cj, offset_j, t0);
   const Vec<D> dv = ci.velocity - cj.velocity;
-  const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
-  if (!s.box.periodic()) return t0 + contact_time<D>(dx, dv, sigma);
+  if (!box.periodic()) return t0 + contact_time<D>(dx, dv, sigma);
 
   // Walk the images k L in the order the relative position dx + dv t passes through the
   // boxes of side L around them, from the box it is in now. A contact with image k happens
   // inside its box (sigma < L / 2), so the first image with a contact is the earliest.
-  const double length = s.box.length;
+  const double length = box.length;
   Vec<D> k;
   for (int a = 0; a < D; ++a) k[a] = round_to_integer((dx[a] + dv[a] * (now - t0)) / length);
   for (int step = 0; step < kMaxImagesWalked; ++step) {
@@ -52,6 +60,13 @@ double predicted_contact(const State<D>& s, int i, int j, double now, double lim
     k[axis] += dv[axis] > 0.0 ? 1.0 : -1.0;
   }
   return kNever;
+}
+
+// The same for spheres i and j of the state.
+template <int D>
+double predicted_contact(const State<D>& s, int i, int j, double now, double limit = kNever) {
+  return predicted_contact(s.box, s.cluster_of(i), s.spheres.offset[i], s.cluster_of(j), s.spheres.offset[j],
+                           s.spheres.radius[i] + s.spheres.radius[j], now, limit);
 }
 
 struct WallContact {

@@ -30,6 +30,7 @@ class CellGrid {
     std::int64_t cells = 1;
     for (int a = 0; a < D; ++a) cells *= per_side_;
     head_.assign(cells, -1);
+    cell_tag_.assign(cells, kMixed);
     node_.assign(n_items, Node{});
   }
 
@@ -41,6 +42,15 @@ class CellGrid {
     node_[id].position = p;
     link(id, cell_index(p));
   }
+  // Every item carries a tag >= 0 (0 unless set) that for_each_near_image can skip on:
+  // the engine tags spheres with their cluster, so that a big cluster's own spheres, most
+  // of what a scan around its members meets, are passed over without reading anything
+  // else, and a cell holding nothing but them is not even walked.
+  void set_tag(int id, std::int32_t tag) {
+    node_[id].tag = tag;
+    if (node_[id].cell >= 0) retag_cell(node_[id].cell);
+  }
+
   void move(int id, const Vec<D>& p) {
     node_[id].position = p;
     const std::int32_t c = cell_index(p);
@@ -61,6 +71,55 @@ class CellGrid {
       std::int64_t cell = 0;
       for (int a = D - 1; a >= 0; --a) cell = cell * per_side_ + coords[a][k[a]];
       for (std::int32_t id = head_[cell]; id >= 0; id = node_[id].next) f(id, node_[id].position);
+      int a = 0;
+      while (a < D && ++k[a] == counts[a]) k[a++] = 0;
+      if (a == D) break;
+    }
+  }
+
+  // As for_each_near, skipping the items tagged skip_tag, but f(id, image) gets the image
+  // of the binned position next to p's cell: the nearest image whenever it lies within one
+  // cell of p. Comparing it with p needs no minimum-image rounding (the hot path of list
+  // rebuilds): with three or more cells a side, each neighbour cell is one image of a box
+  // cell, shifted by -L, 0 or L.
+  template <class F>
+  void for_each_near_image(const Vec<D>& p, std::int32_t skip_tag, F&& f) const {
+    if (box_.periodic() && per_side_ < 3) {
+      for_each_near(p, [&](int id, const Vec<D>& x) {
+        if (node_[id].tag != skip_tag) f(id, Vec<D>(p - box_.separation(p, x)));
+      });
+      return;
+    }
+    std::array<std::array<std::int64_t, 3>, D> stride;  // cell index term of each neighbour
+    std::array<std::array<double, 3>, D> shift;
+    std::array<int, D> counts;
+    std::int64_t step = 1;
+    for (int a = 0; a < D; ++a) {
+      const int c = coordinate(p[a]);
+      counts[a] = 0;
+      for (int d = -1; d <= 1; ++d) {
+        int x = c + d;
+        double offset = 0.0;
+        if (x < 0 || x >= per_side_) {
+          if (!box_.periodic()) continue;
+          offset = x < 0 ? -box_.length : box_.length;
+          x = x < 0 ? x + per_side_ : x - per_side_;
+        }
+        stride[a][counts[a]] = x * step;
+        shift[a][counts[a]++] = offset;
+      }
+      step *= per_side_;
+    }
+    std::array<int, D> k{};
+    while (true) {
+      std::int64_t cell = 0;
+      for (int a = 0; a < D; ++a) cell += stride[a][k[a]];
+      if (cell_tag_[cell] != skip_tag) {
+        Vec<D> offset;
+        for (int a = 0; a < D; ++a) offset[a] = shift[a][k[a]];
+        for (std::int32_t id = head_[cell]; id >= 0; id = node_[id].next)
+          if (node_[id].tag != skip_tag) f(id, Vec<D>(node_[id].position + offset));
+      }
       int a = 0;
       while (a < D && ++k[a] == counts[a]) k[a++] = 0;
       if (a == D) break;
@@ -91,6 +150,7 @@ class CellGrid {
   }
   void link(int id, std::int32_t c) {
     Node& n = node_[id];
+    cell_tag_[c] = head_[c] < 0 || cell_tag_[c] == n.tag ? n.tag : kMixed;
     n.cell = c;
     n.prev = -1;
     n.next = head_[c];
@@ -101,6 +161,14 @@ class CellGrid {
     const Node& n = node_[id];
     if (n.prev >= 0) node_[n.prev].next = n.next; else head_[n.cell] = n.next;
     if (n.next >= 0) node_[n.next].prev = n.prev;
+    if (cell_tag_[n.cell] == kMixed) retag_cell(n.cell);
+  }
+  // The tag all items of cell c share, or kMixed (cells hold a few items: a short walk).
+  void retag_cell(std::int32_t c) {
+    std::int32_t tag = head_[c] >= 0 ? node_[head_[c]].tag : kMixed;
+    for (std::int32_t id = head_[c]; id >= 0 && tag != kMixed; id = node_[id].next)
+      if (node_[id].tag != tag) tag = kMixed;
+    cell_tag_[c] = tag;
   }
 
   Box<D> box_;
@@ -109,8 +177,11 @@ class CellGrid {
   struct Node {
     Vec<D> position = Vec<D>::Zero();
     std::int32_t next = -1, prev = -1, cell = -1;
+    std::int32_t tag = 0;  // fills the padding of the node in 2D and 3D
   };
-  std::vector<std::int32_t> head_;  // per cell: first item, or -1
+  static constexpr std::int32_t kMixed = -1;
+  std::vector<std::int32_t> head_;      // per cell: first item, or -1
+  std::vector<std::int32_t> cell_tag_;  // per cell: the tag of all its items, or kMixed
   std::vector<Node> node_;          // per item
 };
 

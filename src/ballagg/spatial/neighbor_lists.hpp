@@ -7,7 +7,10 @@
 // When a cluster's velocity changes, only its exposed spheres need new collision
 // predictions; the interior of a big aggregate costs nothing.
 #include <cstdint>
+#include <span>
 #include <vector>
+
+#include "ballagg/core/small_vector.hpp"
 
 namespace ballagg {
 
@@ -19,8 +22,8 @@ class NeighborLists {
     exposed_.assign(n_clusters, {});
   }
 
-  const std::vector<std::int32_t>& partners(int sphere) const { return partners_[sphere]; }
-  const std::vector<std::int32_t>& exposed(int cluster) const { return exposed_[cluster]; }
+  std::span<const std::int32_t> partners(int sphere) const { return partners_[sphere]; }
+  std::span<const std::int32_t> exposed(int cluster) const { return exposed_[cluster]; }
 
   // cluster_of[k] is the current cluster id of sphere k.
   void add_pair(int i, int j, const std::int32_t* cluster_of) {
@@ -53,11 +56,10 @@ class NeighborLists {
   // After the spheres of cluster `gone` were relabelled as members of `keep`: drops the
   // pairs that became internal and hands gone's exposed spheres over to keep.
   void absorb(int keep, int gone, const std::int32_t* cluster_of) {
-    std::vector<std::int32_t> handed = std::move(exposed_[gone]);
-    exposed_[gone].clear();
+    const Exposed handed = std::move(exposed_[gone]);
     for (std::int32_t s : handed) {
-      std::vector<std::int32_t>& ps = partners_[s];
-      for (std::size_t k = 0; k < ps.size();) {
+      Partners& ps = partners_[s];
+      for (std::int32_t k = 0; k < ps.size();) {
         const std::int32_t p = ps[k];
         if (cluster_of[p] != keep) { ++k; continue; }
         erase_partner(p, s);
@@ -76,7 +78,7 @@ class NeighborLists {
 
   std::size_t pair_count() const {
     std::size_t n = 0;
-    for (const auto& p : partners_) n += p.size();
+    for (const auto& p : partners_) n += static_cast<std::size_t>(p.size());
     return n / 2;
   }
 
@@ -90,8 +92,8 @@ class NeighborLists {
     partners_[i].push_back(j);
   }
   void erase_partner(int i, int j) {
-    std::vector<std::int32_t>& ps = partners_[i];
-    for (std::size_t k = 0; k < ps.size(); ++k) {
+    Partners& ps = partners_[i];
+    for (std::int32_t k = 0; k < ps.size(); ++k) {
       if (ps[k] == j) {
         ps[k] = ps.back();
         ps.pop_back();
@@ -100,7 +102,7 @@ class NeighborLists {
     }
   }
   void unexpose(int i, int cluster) {
-    std::vector<std::int32_t>& ex = exposed_[cluster];
+    Exposed& ex = exposed_[cluster];
     const std::int32_t last = ex.back();
     ex[slot_[i]] = last;
     slot_[last] = slot_[i];
@@ -108,8 +110,12 @@ class NeighborLists {
     slot_[i] = -1;
   }
 
-  std::vector<std::vector<std::int32_t>> partners_;
-  std::vector<std::vector<std::int32_t>> exposed_;
+  // A sphere has about kSkinNeighbours partners: 14 in place fill one cache line. A
+  // monomer has at most one exposed sphere; big clusters spill to the heap.
+  using Partners = SmallVector<std::int32_t, 14, 64>;
+  using Exposed = SmallVector<std::int32_t, 2>;
+  std::vector<Partners> partners_;
+  std::vector<Exposed> exposed_;
   std::vector<std::int32_t> slot_;  // position of a sphere in its cluster's exposed list, or -1
 };
 

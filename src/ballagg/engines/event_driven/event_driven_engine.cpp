@@ -31,9 +31,11 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <span>
 
 #include "ballagg/collision/prediction.hpp"
 #include "ballagg/collision/resolve.hpp"
+#include "ballagg/core/prefetch.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
 #include "ballagg/engines/event_driven/event_calendar.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
@@ -50,17 +52,21 @@ class EventDrivenCore {
         grid_(state.box, 2.0 * state.max_radius() + 1.5 * skin_, state.n_spheres()) {
     const int n = s_.n_spheres();
     const int m = static_cast<int>(s_.clusters.size());
+    sphere_.resize(n);
+    for (int i = 0; i < n; ++i) refresh_sphere(i);
     drift_.assign(m, Drift{});
     rebuild_at_.assign(m, kNever);
     lists_.reset(n, m);
     calendar_.reset(m);
-    for (int i = 0; i < n; ++i) grid_.insert(i, s_.position(i, s_.time));
+    for (int i = 0; i < n; ++i) {
+      grid_.insert(i, s_.position(i, s_.time));
+      grid_.set_tag(i, sphere_[i].cluster);
+    }
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) reset_drift(c, s_.time);
     for (int i = 0; i < n; ++i)
-      for_each_foreign_near(i, s_.time, [&](int j) {
-        if (j > i) lists_.add_pair(i, j, s_.spheres.cluster.data());
-      });
+      for_each_foreign_near(i, s_.time, [&](int j) { return j > i; },
+                            [&](int j) { lists_.add_pair(i, j, s_.spheres.cluster.data()); });
     for (int c : s_.alive_clusters()) rebuild_at_[c] = rebuild_time(c);
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) predict(c, /*skip_lower_clusters=*/true);
@@ -99,7 +105,7 @@ class EventDrivenCore {
 
   bool valid(const Event& e) const {
     if (e.kind == EventKind::collision) {
-      return s_.cluster_of(e.a).stamp == e.stamp_a && s_.cluster_of(e.b).stamp == e.stamp_b;
+      return cluster_of(e.a).stamp == e.stamp_a && cluster_of(e.b).stamp == e.stamp_b;
     }
     return s_.clusters[e.a].stamp == e.stamp_a;
   }
@@ -135,27 +141,28 @@ class EventDrivenCore {
     return k.anchor_time + (b <= 0.0 ? (root - b) / a : -cc / (b + root));
   }
 
-  // Calls found(j) for every foreign sphere j within sigma + skin of sphere i at time t.
-  // The grid holds each sphere where it was binned, at most skin / 2 from where it is now,
-  // so spheres binned farther than R_i + R_max + 1.5 skin away are rejected at once.
-  template <class Found>
-  void for_each_foreign_near(int i, double t, Found&& found) const {
-    const std::int32_t* cluster = s_.spheres.cluster.data();
-    const int ci = cluster[i];
-    const Vec<D> xi = s_.unwrapped_position(i, t);
+  // Calls found(j) for every foreign sphere j within sigma + skin of sphere i at time t
+  // for which wanted(j) holds (asked before the exact distance, which is dearer). The grid
+  // tags each sphere with its cluster, so i's own cluster is skipped there; it holds each
+  // sphere where it was binned, at most skin / 2 from where it is now, so spheres binned
+  // farther than R_i + R_max + 1.5 skin away are rejected at once.
+  template <class Wanted, class Found>
+  void for_each_foreign_near(int i, double t, Wanted&& wanted, Found&& found) const {
+    const int ci = sphere_[i].cluster;
+    const Vec<D> xi = unwrapped_position(i, t);
     const Vec<D> xi_folded = s_.box.wrap(xi);
-    const double ri = s_.spheres.radius[i];
+    const double ri = sphere_[i].radius;
     const double binned_reach = ri + s_.max_radius() + 1.5 * skin_;
-    grid_.for_each_near(xi_folded, [&](int j, const Vec<D>& binned) {
-      if (s_.box.separation(xi_folded, binned).squaredNorm() >= binned_reach * binned_reach) return;
-      if (cluster[j] == ci) return;
+    grid_.for_each_near_image(xi_folded, ci, [&](int j, const Vec<D>& binned) {
+      if ((xi_folded - binned).squaredNorm() >= binned_reach * binned_reach) return;
+      if (!wanted(j)) return;
       if (within_reach(i, xi, j, t)) found(j);
     });
   }
 
   bool within_reach(int i, const Vec<D>& xi, int j, double t) const {
-    const double reach = s_.spheres.radius[i] + s_.spheres.radius[j] + skin_;
-    return s_.box.separation(xi, s_.unwrapped_position(j, t)).squaredNorm() < reach * reach;
+    const double reach = sphere_[i].radius + sphere_[j].radius + skin_;
+    return s_.box.separation(xi, unwrapped_position(j, t)).squaredNorm() < reach * reach;
   }
 
   EventRecord rebuild(int c, double t) {
@@ -165,20 +172,20 @@ class EventDrivenCore {
     // into the hole, so walking each list from its end visits every entry once.
     for (auto e = static_cast<std::ptrdiff_t>(lists_.exposed(c).size()) - 1; e >= 0; --e) {
       const int i = lists_.exposed(c)[e];
-      const Vec<D> xi = s_.unwrapped_position(i, t);
+      prefetch_partners(i);
+      const Vec<D> xi = unwrapped_position(i, t);
       for (auto p = static_cast<std::ptrdiff_t>(lists_.partners(i).size()) - 1; p >= 0; --p) {
         const int j = lists_.partners(i)[p];
         if (!within_reach(i, xi, j, t)) lists_.remove_pair(i, j, cluster);
       }
     }
     // Re-bin, then list and predict the pairs that came into reach.
-    for (int i : k.members) grid_.move(i, s_.position(i, t));
+    for (int i : k.members) grid_.move(i, s_.box.wrap(unwrapped_position(i, t)));
     reset_drift(c, t);
     rebuild_at_[c] = rebuild_time(c);
     batch_.clear();
     for (int i : k.members) {
-      for_each_foreign_near(i, t, [&](int j) {
-        if (lists_.listed(i, j)) return;
+      for_each_foreign_near(i, t, [&](int j) { return !lists_.listed(i, j); }, [&](int j) {
         lists_.add_pair(i, j, cluster);
         if (auto e = pair_event(i, j)) batch_.push_back(*e);
       });
@@ -192,17 +199,32 @@ class EventDrivenCore {
 
   // ---- predictions -----------------------------------------------------------------------
 
+  // Starts loading what the pairs of sphere i are about to read: its partners' fields,
+  // then their clusters. At large N each is a cache miss; requested together they overlap
+  // instead of each waiting for the prediction before it.
+  void prefetch_partners(int i) const {
+    const std::span<const std::int32_t> partners = lists_.partners(i);
+    for (int j : partners) prefetch(&sphere_[j]);
+    for (int j : partners) {
+      const int d = sphere_[j].cluster;
+      prefetch(&s_.clusters[d]);
+      prefetch(&rebuild_at_[d]);
+    }
+  }
+
   // The contact event of spheres i and j (different clusters), if they approach. The
   // periodic image walk stops at the earlier list rebuild of the two clusters: a contact
   // through a farther image needs the pair to leave and re-enter the lists first.
   std::optional<Event> pair_event(int i, int j) {
-    const int ci = s_.spheres.cluster[i], cj = s_.spheres.cluster[j];
-    const double limit = std::min(rebuild_at_[ci], rebuild_at_[cj]);
-    const double t = predicted_contact(s_, i, j, s_.time, limit);
+    const SphereFields& si = sphere_[i];
+    const SphereFields& sj = sphere_[j];
+    const double limit = std::min(rebuild_at_[si.cluster], rebuild_at_[sj.cluster]);
+    const double t = predicted_contact(s_.box, s_.clusters[si.cluster], si.offset, s_.clusters[sj.cluster], sj.offset,
+                                       si.radius + sj.radius, s_.time, limit);
     ++count_.pair_predictions;
     if (t == kNever) return std::nullopt;
     const int lo = std::min(i, j), hi = std::max(i, j);
-    return Event{t, lo, hi, s_.cluster_of(lo).stamp, s_.cluster_of(hi).stamp, EventKind::collision};
+    return Event{t, lo, hi, cluster_of(lo).stamp, cluster_of(hi).stamp, EventKind::collision};
   }
 
   // Files the next wall contact, list rebuild and pair contacts of cluster c, replacing
@@ -214,15 +236,15 @@ class EventDrivenCore {
     if (w.time < kNever) batch_.push_back({w.time, c, w.axis, k.stamp, 0, EventKind::wall});
     rebuild_at_[c] = rebuild_time(c);
     if (rebuild_at_[c] < kNever) batch_.push_back({rebuild_at_[c], c, 0, k.stamp, 0, EventKind::list_rebuild});
-    const std::int32_t* cluster = s_.spheres.cluster.data();
     for (int i : lists_.exposed(c)) {
+      prefetch_partners(i);
       for (int j : lists_.partners(i)) {
-        const int d = cluster[j];
+        const int d = sphere_[j].cluster;
         if (d == skip_cluster || (skip_lower_clusters && d < c)) continue;
         if (auto e = pair_event(i, j)) batch_.push_back(*e);
       }
     }
-    calendar_.refile(c, std::move(batch_));
+    calendar_.refile(c, batch_);
     count_.queue_peak = std::max<std::int64_t>(count_.queue_peak, calendar_.size());
   }
 
@@ -265,8 +287,14 @@ class EventDrivenCore {
   int stick(int i, int j, double t) {
     const int a = s_.spheres.cluster[i], b = s_.spheres.cluster[j];
     const double slack = std::max(drift(a, t), drift(b, t));
+    const int absorbed = std::min(s_.clusters[a].size(), s_.clusters[b].size());
     const int keep = s_.merge(i, j, t);
     const int gone = keep == a ? b : a;
+    const std::vector<std::int32_t>& members = s_.clusters[keep].members;  // absorbed ones last
+    for (auto m = members.end() - absorbed; m != members.end(); ++m) {
+      refresh_sphere(*m);
+      grid_.set_tag(*m, keep);
+    }
     lists_.absorb(keep, gone, s_.spheres.cluster.data());
     calendar_.forget(gone);
     drift_[keep] = {Vec<D>::Zero(), slack};
@@ -287,8 +315,25 @@ class EventDrivenCore {
     return best;
   }
 
+  // ---- sphere fields ---------------------------------------------------------------------
+
+  // The fields of a sphere that every prediction and list scan reads, side by side: the
+  // state keeps them in three arrays, three cache misses per sphere at large N. They change
+  // only when the sphere's cluster is absorbed by another (stick()).
+  struct SphereFields {
+    Vec<D> offset;
+    double radius;
+    std::int32_t cluster;
+  };
+  void refresh_sphere(int i) { sphere_[i] = {s_.spheres.offset[i], s_.spheres.radius[i], s_.spheres.cluster[i]}; }
+  const Cluster<D>& cluster_of(int i) const { return s_.clusters[sphere_[i].cluster]; }
+  Vec<D> unwrapped_position(int i, double t) const {
+    return position_in(cluster_of(i), sphere_[i].offset, t);
+  }
+
   State<D>& s_;
   CollisionSettings law_;
+  std::vector<SphereFields> sphere_;
   double skin_;
   CellGrid<D> grid_;
   NeighborLists lists_;
