@@ -284,6 +284,33 @@ TEST_F(Cli, ConfigCommandPrintsTomlThatCanBeFedBack) {
   EXPECT_EQ(read_json(path("r/summary.json"))["engine"], "ed-naive");
 }
 
+TEST_F(Cli, TimeSteppingRunWritesItsCountersAndItsResolvedConfig) {
+  const Outcome o = run({"run", "-q", "--set", "engine.kind=ts", "--set", "system.n=400", "--set", "ts.dt_factor=0.01",
+                         "--out", path("ts").string()});
+  ASSERT_EQ(o.status, 0) << o.err;
+  const auto j = read_json(path("ts/summary.json"));
+  EXPECT_EQ(j["engine"], "ts");
+  EXPECT_EQ(j["n_clusters"], 1);
+  EXPECT_GT(j["steps"].get<int>(), 0);
+  EXPECT_EQ(j["events"], j["steps"]);
+  EXPECT_GT(j["minimisations"].get<int>(), 0);
+  EXPECT_GT(j["daha_iterations"].get<int>(), 0);
+  EXPECT_LE(j["max_residual_overlap"].get<double>(), 1e-3);
+  EXPECT_LE(j["max_overlap"].get<double>(), 1e-3);
+  EXPECT_FALSE(j.contains("list_rebuilds"));
+  EXPECT_EQ(j["config"]["ts"]["model"], "rigid");
+  EXPECT_DOUBLE_EQ(j["config"]["ts"]["delta_w"].get<double>(), 0.8);  // 4 R
+  EXPECT_CONTAINS(slurp(path("ts/config.toml")), "[ts]");
+}
+
+TEST_F(Cli, BadTsValueIsOneLineAndExitStatus2) {
+  const Outcome o = run({"run", "-q", "--set", "engine.kind=ts", "--set", "ts.eps_c=2", "--out", path("bad").string()});
+  EXPECT_EQ(o.status, 2);
+  EXPECT_EQ(line_count(o.err), 1);
+  EXPECT_CONTAINS(o.err, "--set ts.eps_c: ts.eps_c = 2: must be a number in (0, 1)");
+  EXPECT_FALSE(std::filesystem::exists(path("bad")));
+}
+
 TEST_F(Cli, ConfigCommandReportsBadInputLikeRun) {
   const Outcome o = run({"config", "--set", "system.n=zero"});
   EXPECT_EQ(o.status, 2);

@@ -234,6 +234,9 @@ State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table_in) {
   for (int i = 0; i < n; ++i) {
     grid.for_each_near(t.position[i], [&](int j, const Vec<D>&) {
       if (j <= i) return;
+      // Spheres of one glued cluster never collide with each other: overlaps between
+      // them (a time-stepping run leaves up to ts.eps_c) are harmless.
+      if (!t.cluster.empty() && t.cluster[i] == t.cluster[j]) return;
       const double sigma = t.radius[i] + t.radius[j];
       const double d = box.separation(t.position[i], t.position[j]).norm();
       if (d < sigma * (1.0 - tolerance::kInputOverlap)) {

@@ -123,6 +123,10 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
     record.merges = merges;
     observer.after_event(s, record, counters_);
   }
+  // The final state lies inside the walls (the last minimisation may have pushed a cluster
+  // through one; the next step would have moved it back).
+  if (!s.box.periodic())
+    for (int c : s.alive_clusters()) keep_inside_walls(s, c, s.time, false);
   result.counters = counters_;
   result.wall_seconds = elapsed();
   observer.on_finish(s, result);

@@ -8,14 +8,14 @@
 
 namespace ballagg {
 
-// Moves cluster c back inside [0, L] along every axis where it pokes out, at time t. A
-// cluster moving outwards is mirrored through the wall and its velocity component reversed
-// (free flight); one moving inwards (the minimisation of the previous step pushed it
-// through the wall) is only shifted back to touch the wall. A cluster wider than the box
-// is aligned with the lower wall (it is pinned along that axis). Returns true when the
-// velocity changed.
+// Moves cluster c back inside [0, L] along every axis where it pokes out, at time t. With
+// `reflect`, a cluster moving outwards is mirrored through the wall and its velocity
+// component reversed (free flight); otherwise, or when it moves inwards (the minimisation
+// of the previous step pushed it through the wall), it is only shifted back to touch the
+// wall. A cluster wider than the box is aligned with the lower wall (it is pinned along
+// that axis). Returns true when the velocity changed.
 template <int D>
-bool keep_inside_walls(State<D>& s, int c, double t) {
+bool keep_inside_walls(State<D>& s, int c, double t, bool reflect = true) {
   if (s.box.periodic()) return false;
   const Cluster<D>& k = s.clusters[c];
   const Vec<D> origin = s.origin(c, t);
@@ -26,11 +26,11 @@ bool keep_inside_walls(State<D>& s, int c, double t) {
     const double lo = origin[a] + k.lo[a], hi = origin[a] + k.hi[a], length = s.box.length;
     double d = 0.0;
     if (lo < 0.0) {
-      const bool outwards = v[a] < 0.0;
+      const bool outwards = reflect && v[a] < 0.0;
       d = outwards ? -2.0 * lo : -lo;
       if (outwards) { v[a] = -v[a]; reversed = true; }
     } else if (hi > length) {
-      const bool outwards = v[a] > 0.0;
+      const bool outwards = reflect && v[a] > 0.0;
       d = outwards ? -2.0 * (hi - length) : -(hi - length);
       if (outwards) { v[a] = -v[a]; reversed = true; }
     } else {
