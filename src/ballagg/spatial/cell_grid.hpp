@@ -13,6 +13,7 @@
 
 #include "ballagg/core/vec.hpp"
 #include "ballagg/spatial/box.hpp"
+#include "ballagg/spatial/grid_geometry.hpp"
 
 namespace ballagg {
 
@@ -22,20 +23,14 @@ class CellGrid {
   // The number of cells is also capped near `max_cells_per_item * n_items`, so a dilute
   // system in a huge box does not allocate a huge, empty grid (larger cells stay correct).
   CellGrid(const Box<D>& box, double min_cell_size, int n_items, double max_cells_per_item = 2.0)
-      : box_(box) {
-    const double by_size = std::floor(box.length / min_cell_size);
-    const double by_count = std::ceil(std::pow(max_cells_per_item * std::max(n_items, 1), 1.0 / D));
-    per_side_ = static_cast<int>(std::clamp(std::min(by_size, by_count), 1.0, 1e6));
-    cell_size_ = box.length / per_side_;
-    std::int64_t cells = 1;
-    for (int a = 0; a < D; ++a) cells *= per_side_;
-    head_.assign(cells, -1);
-    cell_tag_.assign(cells, kMixed);
+      : box_(box), grid_(box, min_cell_size, n_items, max_cells_per_item), per_side_(grid_.per_side()) {
+    head_.assign(grid_.n_cells(), -1);
+    cell_tag_.assign(grid_.n_cells(), kMixed);
     node_.assign(n_items, Node{});
   }
 
   int per_side() const { return per_side_; }
-  double cell_size() const { return cell_size_; }
+  double cell_size() const { return grid_.cell_size(); }
 
   // p must lie in the box (folded into it when periodic); points on the faces are clamped.
   void insert(int id, const Vec<D>& p) {
@@ -63,18 +58,9 @@ class CellGrid {
   // visited once).
   template <class F>
   void for_each_near(const Vec<D>& p, F&& f) const {
-    std::array<std::array<int, 3>, D> coords;
-    std::array<int, D> counts;
-    for (int a = 0; a < D; ++a) counts[a] = neighbour_coords(coordinate(p[a]), coords[a]);
-    std::array<int, D> k{};
-    while (true) {
-      std::int64_t cell = 0;
-      for (int a = D - 1; a >= 0; --a) cell = cell * per_side_ + coords[a][k[a]];
+    grid_.for_each_cell_near(p, [&](std::int64_t cell) {
       for (std::int32_t id = head_[cell]; id >= 0; id = node_[id].next) f(id, node_[id].position);
-      int a = 0;
-      while (a < D && ++k[a] == counts[a]) k[a++] = 0;
-      if (a == D) break;
-    }
+    });
   }
 
   // As for_each_near, skipping the items tagged skip_tag, but f(id, image) gets the image
@@ -95,7 +81,7 @@ class CellGrid {
     std::array<int, D> counts;
     std::int64_t step = 1;
     for (int a = 0; a < D; ++a) {
-      const int c = coordinate(p[a]);
+      const int c = grid_.coordinate(p[a]);
       counts[a] = 0;
       for (int d = -1; d <= 1; ++d) {
         int x = c + d;
@@ -127,27 +113,7 @@ class CellGrid {
   }
 
  private:
-  // Truncation equals floor for x >= 0; points a round-off outside the box are clamped.
-  int coordinate(double x) const { return std::clamp(static_cast<int>(x / cell_size_), 0, per_side_ - 1); }
-  std::int32_t cell_index(const Vec<D>& p) const {
-    std::int64_t cell = 0;
-    for (int a = D - 1; a >= 0; --a) cell = cell * per_side_ + coordinate(p[a]);
-    return static_cast<std::int32_t>(cell);
-  }
-  // The distinct cell coordinates next to c along one axis (wrapped if periodic).
-  int neighbour_coords(int c, std::array<int, 3>& out) const {
-    int n = 0;
-    for (int d = -1; d <= 1; ++d) {
-      int x = c + d;
-      if (box_.periodic()) {
-        x = (x + per_side_) % per_side_;
-      } else if (x < 0 || x >= per_side_) {
-        continue;
-      }
-      if (std::find(out.begin(), out.begin() + n, x) == out.begin() + n) out[n++] = x;
-    }
-    return n;
-  }
+  std::int32_t cell_index(const Vec<D>& p) const { return grid_.cell_index(p); }
   void link(int id, std::int32_t c) {
     Node& n = node_[id];
     cell_tag_[c] = head_[c] < 0 || cell_tag_[c] == n.tag ? n.tag : kMixed;
@@ -172,8 +138,8 @@ class CellGrid {
   }
 
   Box<D> box_;
-  int per_side_ = 1;
-  double cell_size_ = 1.0;
+  GridGeometry<D> grid_;
+  int per_side_;  // copied from grid_: read in the hot loop of for_each_near_image
   struct Node {
     Vec<D> position = Vec<D>::Zero();
     std::int32_t next = -1, prev = -1, cell = -1;

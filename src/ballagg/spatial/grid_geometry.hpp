@@ -1,0 +1,83 @@
+#pragma once
+// The geometry shared by the cell structures (CellGrid, SortedCellList): a uniform grid of
+// per_side^D cubic cells over the box, at least `min_cell_size` wide, numbered x-fastest,
+// and the walk over the 3^D cells around a point (wrapped across periodic faces, each
+// distinct cell once).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+
+#include "ballagg/core/vec.hpp"
+#include "ballagg/spatial/box.hpp"
+
+namespace ballagg {
+
+template <int D>
+class GridGeometry {
+ public:
+  // The number of cells is also capped near `max_cells_per_item * n_items`, so a dilute
+  // system in a huge box does not allocate a huge, empty grid (larger cells stay correct).
+  GridGeometry(const Box<D>& box, double min_cell_size, int n_items, double max_cells_per_item = 2.0) : box_(box) {
+    const double by_size = std::floor(box.length / min_cell_size);
+    const double by_count = std::ceil(std::pow(max_cells_per_item * std::max(n_items, 1), 1.0 / D));
+    per_side_ = static_cast<int>(std::clamp(std::min(by_size, by_count), 1.0, 1e6));
+    cell_size_ = box.length / per_side_;
+  }
+
+  const Box<D>& box() const { return box_; }
+  int per_side() const { return per_side_; }
+  double cell_size() const { return cell_size_; }
+  std::int64_t n_cells() const {
+    std::int64_t cells = 1;
+    for (int a = 0; a < D; ++a) cells *= per_side_;
+    return cells;
+  }
+
+  // Truncation equals floor for x >= 0; points a round-off outside the box are clamped.
+  int coordinate(double x) const { return std::clamp(static_cast<int>(x / cell_size_), 0, per_side_ - 1); }
+  std::int32_t cell_index(const Vec<D>& p) const {
+    std::int64_t cell = 0;
+    for (int a = D - 1; a >= 0; --a) cell = cell * per_side_ + coordinate(p[a]);
+    return static_cast<std::int32_t>(cell);
+  }
+
+  // Calls f(cell index) for each distinct cell adjacent to the cell of p.
+  template <class F>
+  void for_each_cell_near(const Vec<D>& p, F&& f) const {
+    std::array<std::array<int, 3>, D> coords;
+    std::array<int, D> counts;
+    for (int a = 0; a < D; ++a) counts[a] = neighbour_coords(coordinate(p[a]), coords[a]);
+    std::array<int, D> k{};
+    while (true) {
+      std::int64_t cell = 0;
+      for (int a = D - 1; a >= 0; --a) cell = cell * per_side_ + coords[a][k[a]];
+      f(cell);
+      int a = 0;
+      while (a < D && ++k[a] == counts[a]) k[a++] = 0;
+      if (a == D) break;
+    }
+  }
+
+ private:
+  // The distinct cell coordinates next to c along one axis (wrapped if periodic).
+  int neighbour_coords(int c, std::array<int, 3>& out) const {
+    int n = 0;
+    for (int d = -1; d <= 1; ++d) {
+      int x = c + d;
+      if (box_.periodic()) {
+        x = (x + per_side_) % per_side_;
+      } else if (x < 0 || x >= per_side_) {
+        continue;
+      }
+      if (std::find(out.begin(), out.begin() + n, x) == out.begin() + n) out[n++] = x;
+    }
+    return n;
+  }
+
+  Box<D> box_;
+  int per_side_ = 1;
+  double cell_size_ = 1.0;
+};
+
+}  // namespace ballagg
