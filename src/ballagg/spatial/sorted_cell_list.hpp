@@ -65,6 +65,14 @@ class SortedCellList {
     });
   }
 
+  // Calls f(id) for every item binned in a cell that holds points within radius of p.
+  template <class F>
+  void for_each_within(const Vec<D>& p, double radius, F&& f) const {
+    grid_.for_each_cell_within(p, radius, [&](std::int64_t cell) {
+      for (std::int32_t s = start_[cell]; s < start_[cell + 1]; ++s) f(order_[s]);
+    });
+  }
+
  private:
   GridGeometry<D> grid_;
   std::vector<std::int32_t> start_;  // per cell: first slot in order_ (and one past the end)

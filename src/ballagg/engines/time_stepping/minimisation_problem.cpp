@@ -212,27 +212,47 @@ GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionG
   return out;
 }
 
-// Pairs of spheres of different old clusters of the group, with their relative overlap,
-// when the group starts from `start`.
+// A pair of spheres of different old clusters of a group whose separation, as the group
+// is moved back by the fraction theta of this step's flight, is base - theta * drift.
 template <int D>
-std::vector<std::pair<SpherePair, double>> cross_cluster_contacts(const ProblemContext<D>& ctx,
-                                                                   const std::vector<int>& spheres,
-                                                                   const GroupStart& start) {
+struct RetreatPair {
+  SpherePair pair;
+  Vec<D> base, drift;
+  double sigma;
+  double overlap(double theta) const { return 1.0 - (base - theta * drift).norm() / sigma; }
+};
+
+// Every pair of spheres of different clusters of the group that can touch while the group
+// retreats through its whole flight. Found from the spheres of all but the largest cluster
+// with the step's cell list, so that a giant cluster hit by a monomer costs nothing.
+template <int D>
+std::vector<RetreatPair<D>> retreat_pairs(const ProblemContext<D>& ctx, const CollisionGroup& g) {
   const State<D>& s = ctx.state;
-  std::vector<Vec<D>> x;
-  for (int i : spheres) x.push_back(s.box.wrap(start_position(ctx, start, i)));
-  SortedCellList<D> cells(s.box, 2.0 * s.max_radius(), static_cast<int>(x.size()));
-  cells.build(x);
-  std::vector<std::pair<SpherePair, double>> out;
-  for (std::size_t a = 0; a < x.size(); ++a)
-    cells.for_each_near(x[a], [&](int b) {
-      const int i = spheres[a], j = spheres[b];
-      if (b <= static_cast<int>(a) || s.spheres.cluster[i] == s.spheres.cluster[j]) return;
-      const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
-      const double d = s.box.separation(x[a], x[b]).norm();
-      if (d <= sigma * (1.0 + ctx.settings.daha.eps_c))
-        out.push_back({SpherePair{std::min(i, j), std::max(i, j), 0.0}, 1.0 - d / sigma});
-    });
+  int largest = g.clusters[0];
+  double longest_flight = 0.0, longest_shift = 0.0;  // the query is made at current positions
+  for (int c : g.clusters) {
+    if (s.clusters[c].size() > s.clusters[largest].size()) largest = c;
+    longest_flight = std::max(longest_flight, ctx.flight[c].norm());
+    for (int i : s.clusters[c].members) longest_shift = std::max(longest_shift, ctx.step_shift[i].norm());
+  }
+  const double reach = 2.0 * s.max_radius() + 2.0 * longest_flight;
+  const GroupStart at_end{true, 0.0};
+  auto in_group = [&](int c) { return std::binary_search(g.clusters.begin(), g.clusters.end(), c); };
+  std::vector<RetreatPair<D>> out;
+  for (int c : g.clusters) {
+    if (c == largest) continue;
+    for (int i : s.clusters[c].members) {
+      const Vec<D> xi = start_position(ctx, at_end, i);
+      ctx.cells.for_each_within(ctx.positions[i], reach + 2.0 * (ctx.cell_slack + longest_shift), [&](int j) {
+        const int cj = s.spheres.cluster[j];
+        if (cj == c || !in_group(cj) || (cj != largest && j < i)) return;  // each pair once
+        const Vec<D> base = s.box.separation(xi, start_position(ctx, at_end, j));
+        if (base.norm() > reach) return;
+        out.push_back({SpherePair{std::min(i, j), std::max(i, j), 0.0}, base, ctx.flight[c] - ctx.flight[cj],
+                       s.spheres.radius[i] + s.spheres.radius[j]});
+      });
+    }
+  }
   return out;
 }
 
@@ -244,16 +264,17 @@ constexpr int kBisections = 32;
 template <int D>
 GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionGroup& g) {
   const State<D>& s = ctx.state;
-  std::vector<int> spheres;
-  for (int c : g.clusters) spheres.insert(spheres.end(), s.clusters[c].members.begin(), s.clusters[c].members.end());
+  const std::vector<RetreatPair<D>> pairs = retreat_pairs(ctx, g);
   const double tolerance = 0.5 * ctx.settings.daha.eps_c;
-  auto worst = [&](double retreat) {
+  auto worst = [&](double theta) {
     double w = -1.0;
-    for (const auto& [pair, overlap] : cross_cluster_contacts(ctx, spheres, GroupStart{true, retreat})) w = std::max(w, overlap);
+    for (const RetreatPair<D>& p : pairs) w = std::max(w, p.overlap(theta));
     return w;
   };
   double lo = 0.0, hi = 1.0;  // overlap too deep at lo; acceptable at hi (the start of the step)
-  if (worst(lo) <= tolerance) hi = lo;
+  // Already overlapping at the start of the step (possible only after a step that ran out
+  // of link rounds): moving back would not help; stay, and link only what touches.
+  if (worst(lo) <= tolerance || worst(hi) > tolerance) hi = lo;
   for (int k = 0; k < kBisections && hi > lo; ++k) {
     const double mid = 0.5 * (lo + hi);
     (worst(mid) <= tolerance ? hi : lo) = mid;
@@ -262,17 +283,20 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
   GroupSolution<D> out;
   out.placed_at_contact = true;
   out.n_variables = static_cast<int>(g.clusters.size());
-  for (const auto& [pair, overlap] : cross_cluster_contacts(ctx, spheres, start)) {
-    out.contacts.push_back(pair);
+  for (const RetreatPair<D>& p : pairs) {
+    const double overlap = p.overlap(hi);
+    if (overlap < -ctx.settings.daha.eps_c) continue;  // touching: d <= sigma (1 + eps_c)
+    out.contacts.push_back(p.pair);
     out.result.residual_overlap = std::max(out.result.residual_overlap, overlap);
   }
   out.result.converged = true;
-  for (int i : spheres) {
-    const Vec<D> shift = shift_from_start<D>(ctx, start, i, Vec<D>::Zero());
-    if (shift == Vec<D>::Zero()) continue;
-    out.spheres.push_back(i);
-    out.shift.push_back(shift);
-  }
+  for (int c : g.clusters)
+    for (int i : s.clusters[c].members) {
+      const Vec<D> shift = shift_from_start<D>(ctx, start, i, Vec<D>::Zero());
+      if (shift == Vec<D>::Zero()) continue;
+      out.spheres.push_back(i);
+      out.shift.push_back(shift);
+    }
   return out;
 }
 

@@ -15,6 +15,7 @@
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/time_stepping/adhesive_links.hpp"
 #include "ballagg/engines/time_stepping/daha.hpp"
+#include "ballagg/spatial/sorted_cell_list.hpp"
 
 namespace ballagg {
 
@@ -50,6 +51,8 @@ struct ProblemContext {
   const std::vector<Vec<D>>& positions;  // current sphere centres (folded into the box)
   const std::vector<Vec<D>>& step_shift; // how far the minimisations of this step moved them
   const std::vector<Vec<D>>& flight;     // per cluster: how far this step's free flight moved it
+  const SortedCellList<D>& cells;        // every sphere, binned at most cell_slack from `positions`
+  double cell_slack;
   const std::vector<SpherePair>& S;
   const AdhesiveLinks& links;
   const TimeSteppingSettings& settings;

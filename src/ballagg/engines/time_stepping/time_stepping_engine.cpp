@@ -57,6 +57,9 @@ class TimeSteppingEngine final : public Engine<D> {
   std::vector<SpherePair> overlapping_pairs(const State<D>& s) const;
   int resolve(State<D>& s, std::vector<SpherePair> S);
   GroupSolution<D> solve_or_place(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
+  ProblemContext<D> context(const State<D>& s, const std::vector<SpherePair>& S) const {
+    return {s, positions_, step_shift_, flight_, *cells_, cell_slack_, S, links_, settings_, length_scale_, delta_w_, mean_mass_};
+  }
   std::vector<CollisionGroup> groups(const State<D>& s, const std::vector<SpherePair>& S,
                                      const std::vector<char>& dirty_pair);
   void apply(const GroupSolution<D>& g, const CollisionGroup& group, std::vector<SpherePair>& S,
@@ -204,7 +207,7 @@ int TimeSteppingEngine<D>::resolve(State<D>& s, std::vector<SpherePair> S) {
   std::vector<int> moved;
   for (int round = 1;; ++round) {
     const std::vector<CollisionGroup> gs = groups(s, S, dirty);
-    const ProblemContext<D> ctx{s, positions_, step_shift_, flight_, S, links_, settings_, length_scale_, delta_w_, mean_mass_};
+    const ProblemContext<D> ctx = context(s, S);
     std::vector<GroupSolution<D>> solutions(gs.size());
     std::size_t work = 0;
     for (const CollisionGroup& g : gs) work += g.pairs.size();
@@ -220,8 +223,15 @@ int TimeSteppingEngine<D>::resolve(State<D>& s, std::vector<SpherePair> S) {
     dirty.assign(S.size(), 0);
     for (const SpherePair& p : S) { moved.push_back(p.i); moved.push_back(p.j); }
     if (find_new_pairs(s, moved, S, in_S, dirty) == 0) break;
-    if (round >= settings_.max_link_rounds) { ++counters_.rounds_exhausted; break; }
     ++counters_.link_rounds;
+    if (round + 1 >= settings_.max_link_rounds) {
+      // Out of rounds: the groups that gained pairs are placed at first contact (no
+      // minimisation, so no new contacts among them).
+      ++counters_.rounds_exhausted;
+      const ProblemContext<D> ctx = context(s, S);
+      for (const CollisionGroup& g : groups(s, S, dirty)) apply(place_at_contact(ctx, g), g, S, in_S, moved);
+      break;
+    }
   }
   counters_.max_residual_overlap = std::max(counters_.max_residual_overlap, last_residual_);
   return commit(s, S);
