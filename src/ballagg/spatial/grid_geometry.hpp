@@ -87,6 +87,48 @@ class GridGeometry {
     }
   }
 
+  // Calls f(cell, other) once for every unordered pair of distinct adjacent cells and
+  // f(cell, cell) for every cell: the half stencil, for visiting each pair of items once.
+  // Needs at least 3 cells a side when periodic (otherwise neighbours repeat).
+  // Cells `first` to `last` - 1 only (to share the work between threads).
+  template <class F>
+  void for_each_cell_pair(std::int64_t first, std::int64_t last, F&& f) const {
+    std::array<int, D> c;
+    for (std::int64_t rest = first, a = 0; a < D; ++a, rest /= per_side_) c[a] = static_cast<int>(rest % per_side_);
+    for (std::int64_t index = first; index < last; ++index) {
+      // Offsets in {-1, 0, 1}^D, lexicographically after zero: half of the 3^D - 1.
+      std::array<int, D> o;
+      o.fill(-1);
+      while (true) {
+        bool after_zero = false;
+        for (int a = D - 1; a >= 0; --a)
+          if (o[a] != 0) { after_zero = o[a] > 0; break; }
+        bool all_zero = true;
+        for (int a = 0; a < D; ++a) all_zero = all_zero && o[a] == 0;
+        if (all_zero) {
+          f(index, index);
+        } else if (after_zero) {
+          std::int64_t other = 0;
+          bool inside = true;
+          for (int a = D - 1; a >= 0; --a) {
+            int x = c[a] + o[a];
+            if (x < 0 || x >= per_side_) {
+              if (!box_.periodic()) { inside = false; break; }
+              x = (x + per_side_) % per_side_;
+            }
+            other = other * per_side_ + x;
+          }
+          if (inside) f(index, other);
+        }
+        int a = 0;
+        while (a < D && ++o[a] == 2) o[a++] = -1;
+        if (a == D) break;
+      }
+      int a = 0;
+      while (a < D && ++c[a] == per_side_) c[a++] = 0;
+    }
+  }
+
  private:
   // The distinct cell coordinates next to c along one axis (wrapped if periodic).
   int neighbour_coords(int c, std::array<int, 3>& out) const {

@@ -65,6 +65,21 @@ class SortedCellList {
     });
   }
 
+  // The half stencil: every unordered pair of adjacent non-empty cells once, and every
+  // non-empty cell with itself. Not available (false) when a periodic grid has fewer than
+  // 3 cells a side (neighbours would repeat); use for_each_slot_near then.
+  bool cell_pairs_are_distinct() const { return !grid_.box().periodic() || grid_.per_side() >= 3; }
+  std::int64_t n_cells() const { return grid_.n_cells(); }
+  // The slots of cell c are first_slot(c) to first_slot(c + 1) - 1.
+  std::int32_t first_slot(std::int64_t c) const { return start_[c]; }
+  // Cells `first` to `last` - 1 and their forward neighbours; f(cell, other).
+  template <class F>
+  void for_each_cell_pair(std::int64_t first, std::int64_t last, F&& f) const {
+    grid_.for_each_cell_pair(first, last, [&](std::int64_t a, std::int64_t b) {
+      if (start_[a] != start_[a + 1] && start_[b] != start_[b + 1]) f(a, b);
+    });
+  }
+
   // Calls f(id) for every item binned in a cell that holds points within radius of p.
   template <class F>
   void for_each_within(const Vec<D>& p, double radius, F&& f) const {

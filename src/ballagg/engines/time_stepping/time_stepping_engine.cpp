@@ -168,21 +168,49 @@ std::vector<SpherePair> TimeSteppingEngine<D>::overlapping_pairs(const State<D>&
   std::vector<std::int32_t> cluster_of_slot(n);
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < n; ++k) cluster_of_slot[k] = s.spheres.cluster[order[k]];
-  const double sigma = 2.0 * s.max_radius();  // checked exactly below when radii differ
+  const double reach2 = 4.0 * s.max_radius() * s.max_radius();  // exact test below when radii differ
   std::vector<std::vector<SpherePair>> found(max_threads());
+  auto test = [&](std::int32_t k, std::int32_t m, std::vector<SpherePair>& out) {
+    if (cluster_of_slot[m] == cluster_of_slot[k]) return;
+    const double d2 = s.box.separation(cells.sorted_position(k), cells.sorted_position(m)).squaredNorm();
+    if (d2 > reach2) return;
+    const int i = order[k], j = order[m];
+    const double contact = s.spheres.radius[i] + s.spheres.radius[j];
+    if (d2 <= contact * contact) out.push_back({std::min(i, j), std::max(i, j), 0.0});
+  };
+  if (!cells.cell_pairs_are_distinct()) {  // tiny periodic box: per sphere, each pair once
 #pragma omp parallel for schedule(static)
-  for (int k = 0; k < n; ++k) {
-    const Vec<D>& xk = cells.sorted_position(k);
-    const int ck = cluster_of_slot[k];
-    std::vector<SpherePair>& mine = found[thread_index()];
-    cells.for_each_slot_near(xk, [&](std::int32_t m) {
-      if (m <= k || cluster_of_slot[m] == ck) return;  // each pair once, other clusters only
-      const double d2 = s.box.separation(xk, cells.sorted_position(m)).squaredNorm();
-      if (d2 > sigma * sigma) return;
-      const int i = order[k], j = order[m];
-      const double contact = s.spheres.radius[i] + s.spheres.radius[j];
-      if (d2 <= contact * contact) mine.push_back({std::min(i, j), std::max(i, j), 0.0});
-    });
+    for (int k = 0; k < n; ++k)
+      cells.for_each_slot_near(cells.sorted_position(k), [&](std::int32_t m) {
+        if (m > k) test(k, m, found[thread_index()]);
+      });
+  } else {
+    // Half stencil over cells. A cell whose spheres all belong to one cluster is skipped
+    // against itself and against another such cell of the same cluster: the inside of a
+    // big aggregate costs one comparison per cell pair.
+    const std::int64_t n_cells = cells.n_cells();
+    std::vector<std::int32_t> sole(n_cells, -1);  // per cell: its only cluster, or -1
+#pragma omp parallel for schedule(static)
+    for (std::int64_t c = 0; c < n_cells; ++c) {
+      const std::int32_t first = cells.first_slot(c), last = cells.first_slot(c + 1);
+      if (first == last) continue;
+      std::int32_t id = cluster_of_slot[first];
+      for (std::int32_t k = first + 1; k < last && id >= 0; ++k)
+        if (cluster_of_slot[k] != id) id = -1;
+      sole[c] = id;
+    }
+    const int chunks = 8 * max_threads();
+#pragma omp parallel for schedule(dynamic)
+    for (int chunk = 0; chunk < chunks; ++chunk) {
+      std::vector<SpherePair>& mine = found[thread_index()];
+      cells.for_each_cell_pair(n_cells * chunk / chunks, n_cells * (chunk + 1) / chunks,
+                               [&](std::int64_t a, std::int64_t b) {
+        if (sole[a] >= 0 && sole[a] == sole[b]) return;
+        const std::int32_t a_end = cells.first_slot(a + 1), b_end = cells.first_slot(b + 1);
+        for (std::int32_t k = cells.first_slot(a); k < a_end; ++k)
+          for (std::int32_t m = a == b ? k + 1 : cells.first_slot(b); m < b_end; ++m) test(k, m, mine);
+      });
+    }
   }
   std::vector<SpherePair> pairs;
   for (const auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
