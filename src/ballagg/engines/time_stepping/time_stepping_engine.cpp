@@ -399,7 +399,9 @@ int TimeSteppingEngine<D>::commit(State<D>& s, const std::vector<SpherePair>& S)
     if (!p.active) continue;
     const double sigma = s.spheres.radius[p.i] + s.spheres.radius[p.j];
     const double d = s.box.separation(s.unwrapped_position(p.i, s.time), s.unwrapped_position(p.j, s.time)).norm();
-    if (d > reach * sigma) continue;
+    // Apart: not a contact. Overlapping beyond eps_c (only when max_link_rounds ran out):
+    // left to the next step rather than frozen into a rigid cluster.
+    if (d > reach * sigma || d < (1.0 - settings_.daha.eps_c) * sigma) continue;
     if (settings_.model != TsModel::rigid) links_.add(p.i, p.j, p.lambda);
     if (s.spheres.cluster[p.i] == s.spheres.cluster[p.j]) continue;
     ++counters_.collisions;
