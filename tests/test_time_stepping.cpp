@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include "ballagg/engines/time_stepping/time_step_rule.hpp"
 #include "ballagg/engines/time_stepping/time_stepping_engine.hpp"
 #include "ballagg/io/state_csv.hpp"
 #include "support.hpp"
@@ -189,13 +190,31 @@ TEST(TimeSteppingWalls, ClusterCrossingAWallIsMirroredAndReversed) {
   EXPECT_EQ(s.velocity(0), vec<2>(-1, 0));
 }
 
-TEST(TimeSteppingSteps, GrowthRuleReachesDtGrowthAtOneCluster) {
-  // Adaptive rule (3.3): dt = R_max / max |V| = 0.5 / 2.
+TEST(TimeSteppingSteps, AdaptiveRuleMovesNoClusterMoreThanOneRadius) {
+  // (3.3): dt = R_max / max |V| = 0.5 / 2: ten steps to t = 2.5.
   State<2> s = make_state<2>(40, Boundary::periodic, {{vec<2>(5, 5), vec<2>(2, 0)}, {vec<2>(5, 25), vec<2>(0, 1)}});
   TimeSteppingSettings ts = settings(TsModel::rigid, 0.01);
   ts.dt_rule = TsDtRule::adaptive;
   RunResult r = run_ts(s, ts, until(2.5));
   EXPECT_EQ(r.counters.steps, 10);
+}
+
+TEST(TimeSteppingSteps, GrowthRuleIsGeometricInTheNumberOfClusters) {
+  // 100 discs in a row, touching, speed up to 2: dt(0) = 0.01 * 200 / 2 = 1; the step is
+  // dt(0) g^(1 - ln M / ln N): 1 at M = 100, g^(1/2) at M = 10, g at M = 1.
+  std::vector<Ball<2>> balls;
+  for (int k = 0; k < 100; ++k) balls.push_back({vec<2>(1 + k, 100), vec<2>(k == 0 ? 2 : 0, 0)});
+  State<2> s = make_state<2>(200, Boundary::walls, balls);
+  TimeSteppingSettings ts = settings(TsModel::rigid, 0.01);
+  ts.dt_growth = 4.0;
+  const TimeStepRule rule(ts, s);
+  EXPECT_DOUBLE_EQ(rule.initial_step(), 1.0);
+  EXPECT_DOUBLE_EQ(rule.next(s), 1.0);
+  for (int k = 1; k < 100; ++k) {
+    s.merge(k - 1, k, 0.0);
+    if (s.n_clusters() == 10) EXPECT_NEAR(rule.next(s), 2.0, 1e-12);
+  }
+  EXPECT_DOUBLE_EQ(rule.next(s), 4.0);
 }
 
 TEST(TimeSteppingModels, RigidModelKeepsOldClustersRigid) {

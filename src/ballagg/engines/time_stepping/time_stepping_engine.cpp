@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
 #include <optional>
 #include <limits>
 #include <unordered_map>
@@ -64,6 +63,9 @@ class TimeSteppingEngine final : public Engine<D> {
                                      const std::vector<char>& dirty_pair);
   void apply(const GroupSolution<D>& g, const CollisionGroup& group, std::vector<SpherePair>& S,
              std::unordered_map<std::uint64_t, std::int32_t>& in_S, std::vector<int>& moved);
+  template <class F>
+  void for_each_contact(const State<D>& s, std::vector<int>& spheres, F&& f) const;
+  double largest_overlap(const State<D>& s, std::vector<int>& spheres) const;
   int find_new_pairs(const State<D>& s, std::vector<int>& moved, std::vector<SpherePair>& S,
                      std::unordered_map<std::uint64_t, std::int32_t>& in_S, std::vector<char>& dirty_pair);
   int commit(State<D>& s, const std::vector<SpherePair>& S);
@@ -79,8 +81,8 @@ class TimeSteppingEngine final : public Engine<D> {
   bool stale_cells_ = false;            // some sphere moved farther than that this step
   AdhesiveLinks links_;
   DisjointSets sets_;
+  std::vector<std::int32_t> group_of_root_;  // per cluster id: index of its group in groups()
   double length_scale_ = 1.0, delta_w_ = 0.0, mean_mass_ = 1.0;
-  double last_residual_ = 0.0;          // largest overlap seen by the last find_new_pairs
 };
 
 template <int D>
@@ -99,6 +101,7 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
   cell_slack_ = cells_->cell_size() - 2.0 * s.max_radius();
   if (settings_.model != TsModel::rigid) links_ = AdhesiveLinks(n);
   sets_ = DisjointSets(static_cast<int>(s.clusters.size()));
+  group_of_root_.assign(s.clusters.size(), -1);
   const TimeStepRule rule(settings_, s);
 
   RunResult result;
@@ -232,7 +235,7 @@ int TimeSteppingEngine<D>::resolve(State<D>& s, std::vector<SpherePair> S) {
   std::unordered_map<std::uint64_t, std::int32_t> in_S;  // pair key -> index in S
   for (std::size_t k = 0; k < S.size(); ++k) in_S.emplace(pair_key(S[k].i, S[k].j), static_cast<std::int32_t>(k));
   std::vector<char> dirty(S.size(), 1);
-  std::vector<int> moved;
+  std::vector<int> moved, moved_this_step;  // spheres moved in the current round / step
   for (int round = 1;; ++round) {
     const std::vector<CollisionGroup> gs = groups(s, S, dirty);
     const ProblemContext<D> ctx = context(s, S);
@@ -243,13 +246,17 @@ int TimeSteppingEngine<D>::resolve(State<D>& s, std::vector<SpherePair> S) {
     // than solving a few small groups).
 #pragma omp parallel for schedule(dynamic) if (gs.size() > 1 && work >= kParallelPairs)
     for (std::size_t k = 0; k < gs.size(); ++k) solutions[k] = solve_or_place(ctx, gs[k]);
+    moved.clear();
     for (std::size_t k = 0; k < gs.size(); ++k) apply(solutions[k], gs[k], S, in_S, moved);
     if (stale_cells_) {  // a sphere moved farther than the cells' slack: bin again
       cells_->build(positions_);
       stale_cells_ = false;
     }
     dirty.assign(S.size(), 0);
-    for (const SpherePair& p : S) { moved.push_back(p.i); moved.push_back(p.j); }
+    for (const CollisionGroup& g : gs)
+      for (int k : g.pairs) { moved.push_back(S[k].i); moved.push_back(S[k].j); }
+    moved_this_step.insert(moved_this_step.end(), moved.begin(), moved.end());
+    // Only spheres moved in this round can have met new partners.
     if (find_new_pairs(s, moved, S, in_S, dirty) == 0) break;
     ++counters_.link_rounds;
     if (round + 1 >= settings_.max_link_rounds) {
@@ -257,11 +264,12 @@ int TimeSteppingEngine<D>::resolve(State<D>& s, std::vector<SpherePair> S) {
       // minimisation, so no new contacts among them).
       ++counters_.rounds_exhausted;
       const ProblemContext<D> ctx = context(s, S);
-      for (const CollisionGroup& g : groups(s, S, dirty)) apply(place_at_contact(ctx, g), g, S, in_S, moved);
+      for (const CollisionGroup& g : groups(s, S, dirty)) apply(place_at_contact(ctx, g), g, S, in_S, moved_this_step);
       break;
     }
   }
-  counters_.max_residual_overlap = std::max(counters_.max_residual_overlap, last_residual_);
+  // The largest overlap left around everything this step moved.
+  counters_.max_residual_overlap = std::max(counters_.max_residual_overlap, largest_overlap(s, moved_this_step));
   return commit(s, S);
 }
 
@@ -286,18 +294,26 @@ std::vector<CollisionGroup> TimeSteppingEngine<D>::groups(const State<D>& s, con
   for (int c : touched) sets_.reset(c);
   for (const SpherePair& p : S)
     if (p.active) sets_.unite(s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
-  std::map<int, CollisionGroup> by_root;
-  for (int c : touched) by_root[sets_.find(c)].clusters.push_back(c);
-  std::map<int, bool> dirty_root;
+  // Only the groups holding a dirty pair are built (the others are at equilibrium).
+  for (int c : touched) group_of_root_[sets_.find(c)] = -1;
+  std::vector<CollisionGroup> out;
+  for (std::size_t k = 0; k < S.size(); ++k) {
+    if (!S[k].active || !dirty_pair[k]) continue;
+    std::int32_t& g = group_of_root_[sets_.find(s.spheres.cluster[S[k].i])];
+    if (g < 0) {
+      g = static_cast<std::int32_t>(out.size());
+      out.emplace_back();
+    }
+  }
+  for (int c : touched) {
+    const std::int32_t g = group_of_root_[sets_.find(c)];
+    if (g >= 0) out[g].clusters.push_back(c);  // touched is sorted: clusters come sorted
+  }
   for (std::size_t k = 0; k < S.size(); ++k) {
     if (!S[k].active) continue;
-    const int root = sets_.find(s.spheres.cluster[S[k].i]);
-    by_root[root].pairs.push_back(static_cast<std::int32_t>(k));
-    if (dirty_pair[k]) dirty_root[root] = true;
+    const std::int32_t g = group_of_root_[sets_.find(s.spheres.cluster[S[k].i])];
+    if (g >= 0) out[g].pairs.push_back(static_cast<std::int32_t>(k));
   }
-  std::vector<CollisionGroup> out;
-  for (auto& [root, g] : by_root)
-    if (dirty_root.count(root)) out.push_back(std::move(g));
   std::sort(out.begin(), out.end(), [](const CollisionGroup& a, const CollisionGroup& b) {
     return a.clusters.front() < b.clusters.front();
   });
@@ -332,45 +348,60 @@ void TimeSteppingEngine<D>::apply(const GroupSolution<D>& g, const CollisionGrou
   }
 }
 
-// (3.2): pairs brought to contact (phi >= 0) by the minimisation, not yet in S nor linked.
-// Also records the largest overlap left around the moved spheres.
+// Calls f(i, j, d, sigma) for every pair of a sphere of `spheres` (sorted, each once) and
+// another sphere with phi >= 0 (d <= sigma), spheres of one cluster excepted in the rigid
+// model (their distances never change).
 template <int D>
-int TimeSteppingEngine<D>::find_new_pairs(const State<D>& s, std::vector<int>& moved, std::vector<SpherePair>& S,
-                                          std::unordered_map<std::uint64_t, std::int32_t>& in_S,
-                                          std::vector<char>& dirty_pair) {
-  std::sort(moved.begin(), moved.end());
-  moved.erase(std::unique(moved.begin(), moved.end()), moved.end());
+template <class F>
+void TimeSteppingEngine<D>::for_each_contact(const State<D>& s, std::vector<int>& spheres, F&& f) const {
+  std::sort(spheres.begin(), spheres.end());
+  spheres.erase(std::unique(spheres.begin(), spheres.end()), spheres.end());
   const bool rigid = settings_.model == TsModel::rigid;
-  std::vector<SpherePair> found;
-  int reactivated = 0;
-  double residual = 0.0;
-  for (int i : moved) {
+  for (int i : spheres) {
     const int ci = s.spheres.cluster[i];
     cells_->for_each_near(positions_[i], [&](int j) {
       if (j == i || (rigid && s.spheres.cluster[j] == ci)) return;
       const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
       const double d = s.box.separation(positions_[i], positions_[j]).norm();
-      if (d > sigma) return;
-      residual = std::max(residual, 1.0 - d / sigma);
-      const auto known = in_S.find(pair_key(i, j));
-      const bool found_now = known != in_S.end() && known->second >= static_cast<std::int32_t>(S.size());
-      // An old link squeezed beyond eps_c joins S again, so that its group is solved again.
-      const bool settled_link = !rigid && links_.linked(i, j) && 1.0 - d / sigma <= settings_.daha.eps_c;
-      if (found_now || (known != in_S.end() && S[known->second].active) || settled_link) return;
-      if (known != in_S.end()) {  // replaced by a fall-back placement, overlapping again
-        S[known->second].active = true;
-        S[known->second].lambda = 0.0;
-        dirty_pair[known->second] = 1;
-        ++reactivated;
-        return;
-      }
-      in_S.emplace(pair_key(i, j), static_cast<std::int32_t>(S.size() + found.size()));
-      found.push_back({std::min(i, j), std::max(i, j), 0.0});
+      if (d <= sigma) f(i, j, d, sigma);
     });
   }
+}
+
+// The largest relative overlap between a sphere of `spheres` and any other.
+template <int D>
+double TimeSteppingEngine<D>::largest_overlap(const State<D>& s, std::vector<int>& spheres) const {
+  double largest = 0.0;
+  for_each_contact(s, spheres, [&](int, int, double d, double sigma) { largest = std::max(largest, 1.0 - d / sigma); });
+  return largest;
+}
+
+// (3.2): pairs brought to contact (phi >= 0) by the minimisation, not yet in S nor linked.
+template <int D>
+int TimeSteppingEngine<D>::find_new_pairs(const State<D>& s, std::vector<int>& moved, std::vector<SpherePair>& S,
+                                          std::unordered_map<std::uint64_t, std::int32_t>& in_S,
+                                          std::vector<char>& dirty_pair) {
+  const bool rigid = settings_.model == TsModel::rigid;
+  std::vector<SpherePair> found;
+  int reactivated = 0;
+  for_each_contact(s, moved, [&](int i, int j, double d, double sigma) {
+    const auto known = in_S.find(pair_key(i, j));
+    const bool found_now = known != in_S.end() && known->second >= static_cast<std::int32_t>(S.size());
+    // An old link squeezed beyond eps_c joins S again, so that its group is solved again.
+    const bool settled_link = !rigid && links_.linked(i, j) && 1.0 - d / sigma <= settings_.daha.eps_c;
+    if (found_now || (known != in_S.end() && S[known->second].active) || settled_link) return;
+    if (known != in_S.end()) {  // replaced by a fall-back placement, overlapping again
+      S[known->second].active = true;
+      S[known->second].lambda = 0.0;
+      dirty_pair[known->second] = 1;
+      ++reactivated;
+      return;
+    }
+    in_S.emplace(pair_key(i, j), static_cast<std::int32_t>(S.size() + found.size()));
+    found.push_back({std::min(i, j), std::max(i, j), 0.0});
+  });
   S.insert(S.end(), found.begin(), found.end());
   dirty_pair.resize(S.size(), 1);
-  last_residual_ = residual;
   return static_cast<int>(found.size()) + reactivated;
 }
 
