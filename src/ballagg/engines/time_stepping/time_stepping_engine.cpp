@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <optional>
 #include <limits>
+#include <optional>
 #include <unordered_map>
 
 #include "ballagg/core/disjoint_sets.hpp"
