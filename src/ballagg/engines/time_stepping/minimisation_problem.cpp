@@ -271,13 +271,14 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
     for (const RetreatPair<D>& p : pairs) w = std::max(w, p.overlap(theta));
     return w;
   };
+  // Overlapping already at the start of the step (by at most eps_c, or more after a step
+  // that ran out of link rounds): aim at no worse than that.
+  const double target = std::max(tolerance, worst(1.0));
   double lo = 0.0, hi = 1.0;  // overlap too deep at lo; acceptable at hi (the start of the step)
-  // Already overlapping at the start of the step (possible only after a step that ran out
-  // of link rounds): moving back would not help; stay, and link only what touches.
-  if (worst(lo) <= tolerance || worst(hi) > tolerance) hi = lo;
+  if (worst(lo) <= target) hi = lo;
   for (int k = 0; k < kBisections && hi > lo; ++k) {
     const double mid = 0.5 * (lo + hi);
-    (worst(mid) <= tolerance ? hi : lo) = mid;
+    (worst(mid) <= target ? hi : lo) = mid;
   }
   const GroupStart start{true, hi};
   GroupSolution<D> out;
