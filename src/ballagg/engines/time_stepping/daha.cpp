@@ -31,6 +31,7 @@ void update_multipliers(DahaProblem<D>& prob, const std::vector<Vec<D>>& u, doub
   std::fill(s.count.begin(), s.count.end(), 0.0);
   double total = 0.0;
   s.max = 0.0;
+  double counted = 0.0;
   for (DahaPair<D>& q : prob.pairs) {
     const Vec<D> d = separation(q, u);
     const double phi = q.sigma * q.sigma - d.squaredNorm();  // smooth constraint (3.4)
@@ -39,14 +40,16 @@ void update_multipliers(DahaProblem<D>& prob, const std::vector<Vec<D>>& u, doub
     // (3.28) read with complementarity: a constraint carrying a multiplier must hold as an
     // equality (touching, |1 - d / sigma| small), one without only as an inequality.
     const double violation = q.lambda > 0.0 ? std::abs(1.0 - d.norm() / q.sigma) : rho;
+    s.max = std::max(s.max, violation);
+    if (q.guard && rho == 0.0 && q.lambda == 0.0) continue;  // an idle guard
     s.sum[q.a] += rho;
     s.sum[q.b] += rho;
     s.count[q.a] += 1.0;
     s.count[q.b] += 1.0;
     total += rho;
-    s.max = std::max(s.max, violation);
+    counted += 1.0;
   }
-  s.mean = prob.pairs.empty() ? 0.0 : total / static_cast<double>(prob.pairs.size());
+  s.mean = counted > 0.0 ? total / counted : 0.0;
 }
 
 // (3.29), beta = beta-bar sqrt(N) / phi_A: multipliers grow faster as the overlaps shrink

@@ -29,11 +29,18 @@ struct DahaPair {
   double lambda = 0.0;                // Lagrange multiplier, in and out (warm start)
   bool attract = true;                // in the potential W (links; pairs within Delta_W)
   bool attract_within_range = false;  // almost-rigid: W term only while |d| <= range (H_W)
+  // A guard: a pair outside S, constrained so that the minimisation does not push spheres
+  // into their neighbours. It enters the mean overlap of (3.29) only while it is active
+  // (overlapping or carrying a multiplier), so guards do not dilute the statistics.
+  bool guard = false;
 };
 
 template <int D>
 struct DahaProblem {
-  std::vector<double> inverse_mass;   // per variable, relative to the mean sphere mass
+  // Per variable, relative to the mean sphere mass. A variable with inverse mass 0 never
+  // moves: spheres that stay where they are (neighbours outside the problem) are pairs
+  // with such a variable.
+  std::vector<double> inverse_mass;
   std::vector<DahaPair<D>> pairs;
   // Non-rigid model: W = 1/2 sum over all pairs of variables of |X_a - X_b|^2, whose
   // gradient n (X_a - mean X) costs O(n); `position` holds the starting X_a (scaled,
