@@ -182,6 +182,8 @@ TimeSteppingSettings read_ts_section(const toml::table& root, const std::string&
   if (auto v = ts.real("dt_growth", [](double v) { return v >= 1.0 && v <= 1e3; }, "must be a number in [1, 1000]"))
     t.dt_growth = *v;
   t.delta_w = ts.real("delta_w", positive, "must be a number > 0 (a length; default 4 R)");
+  if (auto v = ts.real("bond_stretch", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]"))
+    t.bond_stretch = *v;
   if (auto v = ts.integer("max_link_rounds", 1, 1'000'000, "must be an integer from 1 to 1000000"))
     t.max_link_rounds = static_cast<int>(*v);
   if (auto v = ts.real("alpha", positive, "must be a number > 0")) d.alpha = *v;
@@ -197,6 +199,8 @@ TimeSteppingSettings read_ts_section(const toml::table& root, const std::string&
   if (auto v = ts.real("eps_c", in_open_unit, "must be a number in (0, 1)")) d.eps_c = *v;
   if (auto v = ts.integer("max_iterations", 1, 100'000'000, "must be an integer from 1 to 100000000"))
     d.max_iterations = static_cast<int>(*v);
+  if (auto v = ts.integer("stall_iterations", 0, 100'000'000, "must be an integer from 0 (off) to 100000000"))
+    d.stall_iterations = static_cast<int>(*v);
   ts.reject_unknown_keys();
   if (d.c_min > d.c_max)
     throw InputError(fmt::format("{}: ts.c_min = {} is larger than ts.c_max = {}: the damping bounds must satisfy c_min <= c_max",
@@ -392,6 +396,7 @@ std::vector<Section> entries(const Config& c) {
               {"dt_factor", t.dt_factor},
               {"dt_growth", t.dt_growth}}};
   if (t.delta_w) ts.second.push_back({"delta_w", *t.delta_w});
+  ts.second.push_back({"bond_stretch", t.bond_stretch});
   const DahaParameters& d = t.daha;
   for (auto&& [key, value] : std::initializer_list<std::pair<const char*, double>>{
            {"alpha", d.alpha}, {"gamma", d.gamma}, {"delta", d.delta}, {"c_bar", d.c_bar}, {"c_min", d.c_min}, {"c_max", d.c_max},
@@ -399,6 +404,7 @@ std::vector<Section> entries(const Config& c) {
            {"eps_c", d.eps_c}})
     ts.second.push_back({key, value});
   ts.second.push_back({"max_iterations", std::int64_t{d.max_iterations}});
+  ts.second.push_back({"stall_iterations", std::int64_t{d.stall_iterations}});
   ts.second.push_back({"max_link_rounds", std::int64_t{t.max_link_rounds}});
   Section stop{"stop", {{"clusters", c.stop.clusters}, {"time", c.stop.time}, {"wall_seconds", c.stop.wall_seconds}}};
   Section output{"output", {{"timeseries_interval", c.output.timeseries_interval}, {"xyz", c.output.xyz}}};

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <unordered_map>
+#include <cstdio>
+#include <cstdlib>
 
 #include "ballagg/spatial/sorted_cell_list.hpp"
 
@@ -110,6 +112,7 @@ GroupSolution<D> solve_rigid(const ProblemContext<D>& ctx, const CollisionGroup&
 
   GroupSolution<D> out;
   std::vector<Vec<D>> u;
+  if (ctx.sink) ctx.sink->record(prob);
   out.result = minimise(prob, ctx.settings.daha, u);
   out.n_variables = static_cast<int>(g.bodies.size());
   for (std::size_t k = 0; k < g.pairs.size(); ++k) out.pair_lambda.push_back(prob.pairs[k].lambda);
@@ -178,7 +181,6 @@ GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionG
 
   DahaProblem<D> prob;
   prob.n_spheres = static_cast<int>(spheres.size());
-  for (int i : spheres) prob.inverse_mass.push_back(ctx.mean_mass / s.spheres.mass[i]);
   const bool local_attraction = ctx.settings.model == TsModel::almost_rigid;
   prob.range = ctx.delta_w / ctx.length_scale;
   if (!local_attraction) {
@@ -186,16 +188,18 @@ GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionG
       prob.position.push_back(x / ctx.length_scale);
   }
   // Almost-rigid: cells of side Delta_W (the "rectangles" of §3.3) over the group's
-  // spheres find the pairs within range. Only the spheres within Delta_W of a sphere of a
-  // new contact move; the rest of each old cluster holds still (zero inverse mass), so a
-  // cluster deforms only near the impact ("elasticity admitted but only locally").
+  // spheres find the pairs within range. The spheres within Delta_W of a sphere of a new
+  // contact move each on its own; the rest of each cluster moves as one rigid part (one
+  // variable of its mass), so a cluster deforms only near the impact ("a partial rigid
+  // body, where some elasticity is admitted but only locally") and is carried as a whole
+  // by its links otherwise.
   std::vector<Vec<D>> x;
   for (int i : spheres) x.push_back(ctx.positions[i]);
   const double reach = local_attraction ? (1.0 + kRangeMargin) * ctx.delta_w : (2.0 + kContactMargin) * s.max_radius();
   SortedCellList<D> cells(s.box, reach, static_cast<int>(x.size()));
   cells.build(x);
   std::vector<char> mobile(spheres.size(), local_attraction ? 0 : 1);
-  if (local_attraction) {
+  if (local_attraction)
     for (int idx : g.pairs)
       for (int i : {ctx.S.pairs()[idx].i, ctx.S.pairs()[idx].j}) {
         const Vec<D>& xi = x[local.at(i)];
@@ -203,20 +207,37 @@ GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionG
           if (s.box.separation(xi, x[b]).norm() <= reach) mobile[b] = 1;
         });
       }
-    prob.n_spheres = static_cast<int>(std::count(mobile.begin(), mobile.end(), 1));
-    for (std::size_t a = 0; a < spheres.size(); ++a)
-      if (!mobile[a]) prob.inverse_mass[a] = 0.0;
+  std::vector<int> variable(spheres.size());    // of each sphere of the group
+  std::unordered_map<int, int> rigid_part;      // cluster -> variable of its rigid part
+  std::vector<double> mass;                     // of each variable
+  for (std::size_t a = 0; a < spheres.size(); ++a) {
+    const double m = s.spheres.mass[spheres[a]];
+    if (mobile[a]) {
+      variable[a] = static_cast<int>(mass.size());
+      mass.push_back(m);
+      continue;
+    }
+    const auto [it, added] = rigid_part.emplace(s.spheres.cluster[spheres[a]], static_cast<int>(mass.size()));
+    if (added) mass.push_back(0.0);
+    variable[a] = it->second;
+    mass[it->second] += m;
   }
+  for (double m : mass) prob.inverse_mass.push_back(ctx.mean_mass / m);
 
   std::unordered_map<std::uint64_t, int> index;  // pair key -> position in prob.pairs
   std::vector<SpherePair> sphere_pairs;  // of each pair of the problem
-  auto add = [&](int i, int j, double lambda) {
-    const int a = local.at(i), b = local.at(j);
-    if (!mobile[a] && !mobile[b]) return;
+  // A pair is constrained; in the almost-rigid model it also attracts, while within
+  // Delta_W (3.30) — a link (an adhesive bond, which this model never breaks) at any
+  // distance, and may not stretch beyond (1 + bond_stretch) sigma. In the non-rigid model
+  // the attraction is the all-pairs term.
+  auto add = [&](int i, int j, double lambda, bool bond = false) {
+    const int a = variable[local.at(i)], b = variable[local.at(j)];
+    if (a == b) return;  // within one rigid part (or a sphere with itself)
     if (!index.emplace(key(i, j), static_cast<int>(prob.pairs.size())).second) return;
     DahaPair<D> q = make_pair(ctx, i, j, a, b, lambda);
-    q.attract = local_attraction;  // non-rigid: the attraction is the all-pairs term
-    q.attract_within_range = local_attraction;
+    q.attract = local_attraction;
+    q.attract_within_range = local_attraction && !bond;
+    if (local_attraction && bond) q.stretch_limit = (1.0 + ctx.settings.bond_stretch) * q.sigma;
     prob.pairs.push_back(q);
     sphere_pairs.push_back({std::min(i, j), std::max(i, j), lambda});
   };
@@ -225,14 +246,14 @@ GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionG
   std::vector<SpherePair> links;
   for (int i : spheres)
     for (const LinkEnd& e : ctx.links.of(i)) {
-      if (!mobile[local.at(i)] && !mobile[local.at(e.other)]) continue;
+      if (variable[local.at(i)] == variable[local.at(e.other)]) continue;
       links.push_back({i, e.other, e.lambda});
-      add(i, e.other, e.lambda);
+      add(i, e.other, e.lambda, true);
     }
   // This step's links (the bodies' own) hold their clusters together like old links; their
   // multipliers stay with the bodies.
   for (int body : g.bodies)
-    for (const SpherePair& l : ctx.bodies.links_of(body)) add(l.i, l.j, l.lambda);
+    for (const SpherePair& l : ctx.bodies.links_of(body)) add(l.i, l.j, l.lambda, true);
   const std::size_t last_link = prob.pairs.size();
   for (std::size_t a = 0; a < x.size(); ++a)
     cells.for_each_near(x[a], [&](int b) {
@@ -242,9 +263,17 @@ GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionG
 
   GroupSolution<D> out;
   std::vector<Vec<D>> u;
+  if (ctx.sink) ctx.sink->record(prob);
   out.result = minimise(prob, ctx.settings.daha, u);
-  out.n_variables = prob.n_spheres;
+  out.n_variables = static_cast<int>(mass.size());
   out.link_stretch = largest_stretch(prob, u, first_link, last_link);
+  if (out.link_stretch > 1.0 && out.result.converged && std::getenv("STRETCH_DEBUG")) {
+    for (std::size_t p = first_link; p < last_link; ++p) {
+      const DahaPair<D>& q = prob.pairs[p];
+      const double st = (q.base + u[q.a] - u[q.b]).norm() / q.sigma - 1.0;
+      if (st > 1.0) std::fprintf(stderr, "STRETCH %.2f link %d-%d vars %d %d base %.3f |u_a| %.3f |u_b| %.3f invm %g %g vars %zu pairs %zu its %d\n", st, sphere_pairs[p].i, sphere_pairs[p].j, q.a, q.b, q.base.norm(), u[q.a].norm(), u[q.b].norm(), prob.inverse_mass[q.a], prob.inverse_mass[q.b], mass.size(), prob.pairs.size(), out.result.iterations);
+    }
+  }
   for (std::size_t p = 0; p < first_link; ++p) out.pair_lambda.push_back(prob.pairs[p].lambda);
   for (SpherePair& l : links) l.lambda = prob.pairs[index.at(key(l.i, l.j))].lambda;
   out.old_links = std::move(links);
@@ -253,7 +282,7 @@ GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionG
     if (k < static_cast<int>(first_link) || k >= static_cast<int>(last_link)) out.contacts.push_back(c);
   }
   for (std::size_t a = 0; a < spheres.size(); ++a) {
-    const Vec<D> shift = u[a] * ctx.length_scale;
+    const Vec<D> shift = u[variable[a]] * ctx.length_scale;
     if (shift == Vec<D>::Zero()) continue;
     out.spheres.push_back(spheres[a]);
     out.shift.push_back(shift);

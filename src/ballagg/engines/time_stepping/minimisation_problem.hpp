@@ -57,6 +57,7 @@ struct ProblemContext {
   double length_scale;                   // mean contact distance 2 <R>
   double delta_w;                        // resolved Delta_W
   double mean_mass;
+  DahaProblemSink<D>* sink = nullptr;    // sees every problem before it is solved (tuning)
 };
 
 template <int D>

@@ -43,7 +43,8 @@ bool pair_less(const SpherePair& a, const SpherePair& b) { return a.i != b.i ? a
 template <int D>
 class TimeSteppingEngine final : public Engine<D> {
  public:
-  explicit TimeSteppingEngine(const TimeSteppingSettings& settings) : settings_(settings) {}
+  TimeSteppingEngine(const TimeSteppingSettings& settings, DahaProblemSink<D>* sink)
+      : settings_(settings), sink_(sink) {}
   std::string_view name() const override { return "ts"; }
   RunResult run(State<D>& s, const StopCriteria& stop, RunObserver<D>& observer) override;
 
@@ -66,12 +67,13 @@ class TimeSteppingEngine final : public Engine<D> {
 
   ProblemContext<D> context(const State<D>& s) const {
     return {s, positions_, step_shift_, flight_, bodies_, *cells_, cell_slack_, S_, links_, settings_,
-            length_scale_, delta_w_, mean_mass_};
+            length_scale_, delta_w_, mean_mass_, sink_};
   }
   bool rigid() const { return settings_.model == TsModel::rigid; }
   int body_of_sphere(const State<D>& s, int i) const { return bodies_.body_of(s.spheres.cluster[i]); }
 
   TimeSteppingSettings settings_;
+  DahaProblemSink<D>* sink_;
   EngineCounters counters_;
   std::optional<Box<D>> box_;
   std::vector<Vec<D>> positions_;            // sphere centres at the current time, in the box
@@ -473,11 +475,11 @@ int TimeSteppingEngine<D>::commit(State<D>& s) {
 }  // namespace
 
 template <int D>
-std::unique_ptr<Engine<D>> make_time_stepping_engine(const TimeSteppingSettings& settings) {
-  return std::make_unique<TimeSteppingEngine<D>>(settings);
+std::unique_ptr<Engine<D>> make_time_stepping_engine(const TimeSteppingSettings& settings, DahaProblemSink<D>* sink) {
+  return std::make_unique<TimeSteppingEngine<D>>(settings, sink);
 }
 
-template std::unique_ptr<Engine<2>> make_time_stepping_engine<2>(const TimeSteppingSettings&);
-template std::unique_ptr<Engine<3>> make_time_stepping_engine<3>(const TimeSteppingSettings&);
+template std::unique_ptr<Engine<2>> make_time_stepping_engine<2>(const TimeSteppingSettings&, DahaProblemSink<2>*);
+template std::unique_ptr<Engine<3>> make_time_stepping_engine<3>(const TimeSteppingSettings&, DahaProblemSink<3>*);
 
 }  // namespace ballagg
