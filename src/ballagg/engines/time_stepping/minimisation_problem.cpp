@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <unordered_map>
-#include <cstdio>
-#include <cstdlib>
 
 #include "ballagg/spatial/sorted_cell_list.hpp"
 
@@ -267,13 +265,6 @@ GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionG
   out.result = minimise(prob, ctx.settings.daha, u);
   out.n_variables = static_cast<int>(mass.size());
   out.link_stretch = largest_stretch(prob, u, first_link, last_link);
-  if (out.link_stretch > 1.0 && out.result.converged && std::getenv("STRETCH_DEBUG")) {
-    for (std::size_t p = first_link; p < last_link; ++p) {
-      const DahaPair<D>& q = prob.pairs[p];
-      const double st = (q.base + u[q.a] - u[q.b]).norm() / q.sigma - 1.0;
-      if (st > 1.0) std::fprintf(stderr, "STRETCH %.2f link %d-%d vars %d %d base %.3f |u_a| %.3f |u_b| %.3f invm %g %g vars %zu pairs %zu its %d\n", st, sphere_pairs[p].i, sphere_pairs[p].j, q.a, q.b, q.base.norm(), u[q.a].norm(), u[q.b].norm(), prob.inverse_mass[q.a], prob.inverse_mass[q.b], mass.size(), prob.pairs.size(), out.result.iterations);
-    }
-  }
   for (std::size_t p = 0; p < first_link; ++p) out.pair_lambda.push_back(prob.pairs[p].lambda);
   for (SpherePair& l : links) l.lambda = prob.pairs[index.at(key(l.i, l.j))].lambda;
   out.old_links = std::move(links);
