@@ -113,7 +113,6 @@ GroupSolution<D> solve_rigid(const ProblemContext<D>& ctx, const CollisionGroup&
   if (ctx.sink) ctx.sink->record(prob);
   out.result = minimise(prob, ctx.settings.daha, u);
   out.n_variables = static_cast<int>(g.bodies.size());
-  for (std::size_t k = 0; k < g.pairs.size(); ++k) out.pair_lambda.push_back(prob.pairs[k].lambda);
   out.contacts = touching_pairs(prob, sphere_pairs, u, ctx.settings.daha.eps_c);
   for (const auto& [c, b] : clusters) {
     const Vec<D> shift = u[b] * ctx.length_scale;
@@ -265,7 +264,6 @@ GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionG
   out.result = minimise(prob, ctx.settings.daha, u);
   out.n_variables = static_cast<int>(mass.size());
   out.link_stretch = largest_stretch(prob, u, first_link, last_link);
-  for (std::size_t p = 0; p < first_link; ++p) out.pair_lambda.push_back(prob.pairs[p].lambda);
   for (SpherePair& l : links) l.lambda = prob.pairs[index.at(key(l.i, l.j))].lambda;
   out.old_links = std::move(links);
   for (const SpherePair& c : touching_pairs(prob, sphere_pairs, u, ctx.settings.daha.eps_c)) {

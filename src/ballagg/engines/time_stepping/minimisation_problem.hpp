@@ -31,7 +31,6 @@ template <int D>
 struct GroupSolution {
   std::vector<std::int32_t> spheres;   // moved spheres
   std::vector<Vec<D>> shift;           // their displacements (box units)
-  std::vector<double> pair_lambda;     // final multipliers of the group's pairs of S
   std::vector<SpherePair> old_links;   // non-rigid / almost-rigid: old links, new multipliers
   DahaResult result;
   int n_variables = 0;

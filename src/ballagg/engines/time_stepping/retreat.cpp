@@ -77,7 +77,6 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
   out.dissolves_bodies = true;
   out.result.converged = true;
   out.n_variables = static_cast<int>(clusters.size());
-  out.pair_lambda.assign(g.pairs.size(), 0.0);  // a later minimisation starts afresh, (3.26)
   const double eps_c = ctx.settings.daha.eps_c;
   for (const Candidate& k : candidates)
     if (std::abs((k.base - theta * k.drift).norm() / k.sigma - 1.0) <= eps_c) out.contacts.push_back(k.pair);

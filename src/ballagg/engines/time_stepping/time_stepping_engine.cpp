@@ -288,11 +288,6 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
       S_.clear();
       break;
     }
-    for (std::size_t k = 0; k < groups.size(); ++k) {  // warm start if a group is solved again
-      if (solutions[k].pair_lambda.empty()) continue;
-      for (std::size_t p = 0; p < groups[k].pairs.size(); ++p)
-        S_.pair(groups[k].pairs[p]).lambda = solutions[k].pair_lambda[p];
-    }
     round_contacts_.clear();
     for (const GroupSolution<D>& g : solutions)
       for (const SpherePair& c : g.contacts) round_contacts_.insert(c.i, c.j, 0);
