@@ -1,6 +1,7 @@
 #include "ballagg/analysis/contacts.hpp"
 
 #include <algorithm>
+#include <atomic>
 
 #include "ballagg/analysis/pair_scan.hpp"
 
@@ -15,11 +16,14 @@ ContactCounts count_contacts(const Box<D>& box, const std::vector<Vec<D>>& x, co
   counts.same_cluster.assign(n, 0);
   if (n == 0) return counts;
   const double max_radius = *std::max_element(radius.begin(), radius.end());
-  // Each ordered pair is visited from its first sphere only: each thread writes its own i.
+  // Integer increments from several threads: atomic, and the sums do not depend on order.
   for_each_pair_within(box, x, alpha_r * max_radius, [&](int, int i, int j, double r) {
     if (r > 0.5 * alpha_r * (radius[i] + radius[j])) return;
-    ++counts.all[i];
-    if (label[i] == label[j]) ++counts.same_cluster[i];
+    for (int k : {i, j}) {
+      std::atomic_ref<std::int32_t>(counts.all[k]).fetch_add(1, std::memory_order_relaxed);
+      if (label[i] == label[j])
+        std::atomic_ref<std::int32_t>(counts.same_cluster[k]).fetch_add(1, std::memory_order_relaxed);
+    }
   });
   return counts;
 }

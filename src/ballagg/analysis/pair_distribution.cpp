@@ -24,10 +24,11 @@ PairDistribution pair_distribution(const Box<D>& box, const std::vector<Vec<D>>&
   const int threads = max_threads();
   std::vector<std::vector<std::int64_t>> all(threads, std::vector<std::int64_t>(bins, 0));
   std::vector<std::vector<std::int64_t>> own(threads, std::vector<std::int64_t>(bins, 0));
+  // Each unordered pair once: it counts for both of its spheres in the sum over i != j.
   for_each_pair_within(box, x, p.r.back(), [&](int thread, int i, int j, double d) {
     const int b = bin_of(d);
-    ++all[thread][b];
-    if (label[i] == cluster && label[j] == cluster) ++own[thread][b];
+    all[thread][b] += 2;
+    if (label[i] == cluster && label[j] == cluster) own[thread][b] += 2;
   });
   std::int64_t cluster_size = 0;
   for (std::int32_t l : label) cluster_size += l == cluster;
