@@ -120,6 +120,28 @@ ts.model = "rigid"
   EXPECT_DOUBLE_EQ(runs[23].config.ts.dt_factor, 0.01);
 }
 
+TEST(SweepFile, AVariantsArrayReplacesTheGridValuesOfItsKey) {
+  // The costly per-sphere models on the smaller N only.
+  const auto spec = ballagg::parse_sweep_text(R"([grid]
+system.n = [100, 400, 10000]
+system.volume_fraction = [0.1, 0.3]
+[[variants]]
+engine.kind = "ed"
+[[variants]]
+engine.kind = "ts"
+ts.model = "non-rigid"
+system.n = [100, 400]
+)", "s.toml");
+  const auto points = ballagg::sweep_points(spec);
+  ASSERT_EQ(points.size(), 6u + 4u);
+  EXPECT_EQ(points[9].values[0]->value, "400");
+  EXPECT_EQ(points[9].values[1]->value, "0.3");
+  EXPECT_EQ(points[9].variant->label, "engine.kind=\"ts\",ts.model=\"non-rigid\"");
+  EXPECT_EQ(sweep_error("[grid]\nsystem.n = [1]\n[[variants]]\nsystem.radius = [0.1, 0.2]\n"),
+            "s.toml:4: variant values for system.radius: not a key of [grid] (a variant's array replaces the grid's "
+            "values for that key)");
+}
+
 TEST(SweepFile, SeedsInTheGridStartEachPointsRealizations) {
   const auto spec = ballagg::parse_sweep_text("[sweep]\nrealizations = 2\n[grid]\ninitial.seed = [7, 70]\n", "s.toml");
   const auto runs = ballagg::sweep_runs(spec, ballagg::sweep_points(spec));

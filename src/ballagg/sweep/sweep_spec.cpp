@@ -69,6 +69,20 @@ class SpecReader {
   const std::string& source_;
 };
 
+SweepAxis read_axis(const SpecReader& r, const std::string& key, const toml::node& node, const toml::array& values) {
+  if (values.empty())
+    r.fail(line_of(node), fmt::format("grid {} must be a non-empty array of values, e.g. {} = [1, 2]", key, key));
+  SweepAxis axis{key, {}};
+  std::set<std::string> seen;
+  for (const toml::node& v : values) {
+    const int line = line_of(v) > 0 ? line_of(v) : line_of(node);
+    SweepSetting s{key, r.value_text(v, key), line};
+    if (!seen.insert(s.value).second) r.fail(line, fmt::format("grid {}: the value {} appears twice", key, s.value));
+    axis.values.push_back(std::move(s));
+  }
+  return axis;
+}
+
 }  // namespace
 
 SweepSpec parse_sweep_text(const std::string& text, const std::string& source) {
@@ -132,7 +146,10 @@ SweepSpec parse_sweep_text(const std::string& text, const std::string& source) {
           continue;
         }
         r.check_key(key, line_of(*value), "variant key");
-        if (value->is_array()) r.fail(line_of(*value), fmt::format("variant key {}: one value, not an array (arrays go in [grid])", key));
+        if (const toml::array* values = value->as_array()) {
+          v.own_values.push_back(read_axis(r, key, *value, *values));
+          continue;
+        }
         v.settings.push_back({key, r.value_text(*value, key), line_of(*value)});
       }
       if (v.label.empty()) {
@@ -151,23 +168,20 @@ SweepSpec parse_sweep_text(const std::string& text, const std::string& source) {
     for (const auto& [key, value] : keys) {
       r.check_key(key, line_of(*value), "grid key");
       const toml::array* values = value->as_array();
-      if (values == nullptr || values->empty())
+      if (values == nullptr)
         r.fail(line_of(*value), fmt::format("grid {} must be a non-empty array of values, e.g. {} = [1, 2]", key, key));
-      SweepAxis axis{key, {}};
-      std::set<std::string> seen;
-      for (const toml::node& v : *values) {
-        const int line = line_of(v) > 0 ? line_of(v) : line_of(*value);
-        SweepSetting s{key, r.value_text(v, key), line};
-        if (!seen.insert(s.value).second) r.fail(line, fmt::format("grid {}: the value {} appears twice", key, s.value));
-        axis.values.push_back(std::move(s));
-      }
       for (const SweepVariant& variant : spec.variants)
         for (const SweepSetting& s : variant.settings)
           if (s.key == key)
             r.fail(line_of(*value), fmt::format("grid {}: also set by the variant at line {} (set it in one place)", key, variant.line));
-      spec.axes.push_back(std::move(axis));
+      spec.axes.push_back(read_axis(r, key, *value, *values));
     }
   }
+  for (const SweepVariant& variant : spec.variants)
+    for (const SweepAxis& own : variant.own_values)
+      if (std::none_of(spec.axes.begin(), spec.axes.end(), [&](const SweepAxis& a) { return a.key == own.key; }))
+        r.fail(own.values.front().line, fmt::format("variant values for {}: not a key of [grid] (a variant's array "
+                                                    "replaces the grid's values for that key)", own.key));
   return spec;
 }
 
@@ -175,18 +189,23 @@ SweepSpec load_sweep(const std::string& path) { return parse_sweep_text(read_tex
 
 std::vector<SweepPoint> sweep_points(const SweepSpec& spec) {
   std::vector<SweepPoint> points;
-  std::size_t per_variant = 1;
-  for (const SweepAxis& a : spec.axes) per_variant *= a.values.size();
   for (const SweepVariant& v : spec.variants) {
+    std::vector<const SweepAxis*> axes;
+    std::size_t per_variant = 1;
+    for (const SweepAxis& a : spec.axes) {
+      const auto own = std::find_if(v.own_values.begin(), v.own_values.end(), [&](const SweepAxis& o) { return o.key == a.key; });
+      axes.push_back(own != v.own_values.end() ? &*own : &a);
+      per_variant *= axes.back()->values.size();
+    }
     for (std::size_t k = 0; k < per_variant; ++k) {
       SweepPoint p;
       p.index = static_cast<int>(points.size());
       p.variant = &v;
-      p.values.resize(spec.axes.size());
+      p.values.resize(axes.size());
       std::size_t rest = k;
-      for (std::size_t a = spec.axes.size(); a-- > 0;) {  // the last axis varies fastest
-        p.values[a] = &spec.axes[a].values[rest % spec.axes[a].values.size()];
-        rest /= spec.axes[a].values.size();
+      for (std::size_t a = axes.size(); a-- > 0;) {  // the last axis varies fastest
+        p.values[a] = &axes[a]->values[rest % axes[a]->values.size()];
+        rest /= axes[a]->values.size();
       }
       points.push_back(std::move(p));
     }

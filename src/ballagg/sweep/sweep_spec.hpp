@@ -27,6 +27,9 @@ struct SweepAxis {
 struct SweepVariant {
   std::string label;                  // the `label` key, or the settings joined
   std::vector<SweepSetting> settings;
+  // Arrays in a variant replace the values of a grid key for that variant only (e.g. the
+  // costly per-sphere models on the smaller N).
+  std::vector<SweepAxis> own_values;
   int line = 0;
 };
 
@@ -40,7 +43,7 @@ struct SweepSpec {
   std::vector<SweepAxis> axes;             // in file order; the first varies slowest
 };
 
-// One grid point: a variant and one value per axis.
+// One grid point: a variant and one value per axis (of the grid, or the variant's own).
 struct SweepPoint {
   int index = 0;
   const SweepVariant* variant = nullptr;
@@ -58,7 +61,7 @@ struct SweepRun {
 SweepSpec parse_sweep_text(const std::string& text, const std::string& source);
 SweepSpec load_sweep(const std::string& path);
 
-// Every point of the sweep: variants x grid, the first axis slowest.
+// Every point of the sweep: for each variant its grid (the first axis slowest).
 std::vector<SweepPoint> sweep_points(const SweepSpec& spec);
 
 // Every run (point-major, realizations inner), each configuration built and checked
