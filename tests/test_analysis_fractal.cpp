@@ -65,8 +65,8 @@ TEST(BoxCounting, FilledSquareLatticeIsTwoDimensional) {
 }
 
 TEST(BoxCounting, FilledCubicLatticeIsThreeDimensional) {
-  const double l = 64.0, r = 1.0;
-  const auto a = analyze<3>(l, lattice<3>(Vec<3>(r, r, r), 32, r), r);
+  const double l = 32.0, r = 1.0;
+  const auto a = analyze<3>(l, lattice<3>(Vec<3>(r, r, r), 16, r), r);
   EXPECT_NEAR(a.box_counting.dimension, 3.0, 1e-12);
 }
 
@@ -106,7 +106,7 @@ TEST(MassRadius, FilledLatticeIsTwoDimensionalAndThreeIn3D) {
   const double r = 0.2;
   const auto a2 = analyze<2>(40.0, lattice<2>(vec<2>(5, 5), 60, r), r);
   EXPECT_NEAR(a2.clusters[0].mass_radius_dimension, 2.0, kDimensionTolerance);
-  const auto a3 = analyze<3>(20.0, lattice<3>(Vec<3>(2, 2, 2), 20, r), r);
+  const auto a3 = analyze<3>(20.0, lattice<3>(Vec<3>(2, 2, 2), 16, r), r);
   EXPECT_NEAR(a3.clusters[0].mass_radius_dimension, 3.0, kDimensionTolerance);
 }
 

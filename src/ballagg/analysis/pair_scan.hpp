@@ -15,6 +15,10 @@
 
 namespace ballagg {
 
+// Below this many centres the pass runs on one thread: waking a team costs more than the
+// work (tens of milliseconds on a loaded machine).
+inline constexpr int kParallelPairScanMin = 20000;
+
 // Calls visit(thread, i, j, distance) once for every unordered pair i != j with
 // distance <= cutoff, thread the index of the calling OpenMP thread.
 template <int D, class Visit>
@@ -32,7 +36,7 @@ void for_each_pair_within(const Box<D>& box, const std::vector<Vec<D>>& x, doubl
   };
   if (!cells.cell_pairs_are_distinct()) {
     // A periodic box fewer than 3 cells wide: from each slot, the later slots near it.
-#pragma omp parallel for schedule(dynamic, 256)
+#pragma omp parallel for schedule(dynamic, 256) if (n >= kParallelPairScanMin)
     for (int slot = 0; slot < n; ++slot) {
       const int thread = thread_index();
       cells.for_each_slot_near(cells.sorted_position(slot), [&](std::int32_t other) {
@@ -43,7 +47,7 @@ void for_each_pair_within(const Box<D>& box, const std::vector<Vec<D>>& x, doubl
   }
   constexpr std::int64_t kCellsPerTask = 64;
   const std::int64_t n_cells = cells.n_cells();
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) if (n >= kParallelPairScanMin)
   for (std::int64_t first = 0; first < n_cells; first += kCellsPerTask) {
     const int thread = thread_index();
     cells.for_each_cell_pair(first, std::min(first + kCellsPerTask, n_cells), [&](std::int64_t a, std::int64_t b) {
