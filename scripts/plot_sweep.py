@@ -1,11 +1,13 @@
 """Figures of a sweep directory, like those of Degond et al. 2023 (docs/sweeps.md).
 
-Usage: /usr/bin/python3 scripts/plot_sweep.py SWEEP_DIR [OUT_DIR]
-(`ballagg plot SWEEP_DIR` runs this script, embedded in the binary.)
+Usage: /usr/bin/python3 scripts/plot_sweep.py [--out OUT_DIR] SWEEP_DIR [SWEEP_DIR ...]
+(`ballagg plot SWEEP_DIR...` runs this script, embedded in the binary.)
 
-Reads sweep.csv, sweep_box_counting.csv and sweep_pair_distribution.csv and writes PNG
-files into OUT_DIR (default SWEEP_DIR/figures). Error bars are the standard deviation of
-the mean over the realizations. Exit status 2 with one line on stderr for bad input.
+Reads sweep.csv, sweep_box_counting.csv and sweep_pair_distribution.csv of each sweep
+directory (their points together, so that one sweep's TS runs can be compared with
+another's ED runs) and writes PNG files into OUT_DIR (default: the first
+SWEEP_DIR/figures). Error bars are the standard deviation of the mean over the
+realizations. Exit status 2 with one line on stderr for bad input.
 """
 import csv
 import math
@@ -147,7 +149,7 @@ def fig_pair_distribution(rows, pairs, out):
         for r in rows:
             if number(r, "n") != n:
                 continue
-            curve = [p for p in pairs if p["point"] == r["point"]]
+            curve = [p for p in pairs if p["point"] == r["point"] and p["_dir"] == r["_dir"]]
             if not curve:
                 continue
             x = [number(p, "r_over_R") for p in curve]
@@ -171,7 +173,7 @@ def fig_box_counting(rows, boxes, out):
         for r in vrows:
             if number(r, "n") != n:
                 continue
-            curve = [b for b in boxes if b["point"] == r["point"] and number(b, "fitted") == 1]
+            curve = [b for b in boxes if b["point"] == r["point"] and b["_dir"] == r["_dir"] and number(b, "fitted") == 1]
             if not curve:
                 continue
             eps = [number(b, "eps") for b in curve]
@@ -218,18 +220,30 @@ def fig_fractal_dimension(rows, out):
     save(fig, out, "fractal_dimension.png")
 
 
+def read_tagged(sweep, name):
+    rows = read_csv(os.path.join(sweep, name))
+    for r in rows:
+        r["_dir"] = sweep
+    return rows
+
+
 def main(argv):
-    if len(argv) not in (2, 3):
-        fail("usage: plot_sweep.py SWEEP_DIR [OUT_DIR]")
-    sweep = argv[1]
-    if not os.path.isdir(sweep):
-        fail(f"{sweep}: not a directory")
-    out = argv[2] if len(argv) == 3 else os.path.join(sweep, "figures")
-    rows = [r for r in read_csv(os.path.join(sweep, "sweep.csv")) if int(r["runs"]) > 0]
+    args = argv[1:]
+    out = None
+    if len(args) >= 2 and args[0] == "--out":
+        out, args = args[1], args[2:]
+    if not args:
+        fail("usage: plot_sweep.py [--out OUT_DIR] SWEEP_DIR [SWEEP_DIR ...]")
+    rows, boxes, pairs = [], [], []
+    for sweep in args:
+        if not os.path.isdir(sweep):
+            fail(f"{sweep}: not a directory")
+        rows += [r for r in read_tagged(sweep, "sweep.csv") if int(r["runs"]) > 0]
+        boxes += read_tagged(sweep, "sweep_box_counting.csv")
+        pairs += read_tagged(sweep, "sweep_pair_distribution.csv")
     if not rows:
-        fail(f"{sweep}/sweep.csv: no finished run to plot")
-    boxes = read_csv(os.path.join(sweep, "sweep_box_counting.csv"))
-    pairs = read_csv(os.path.join(sweep, "sweep_pair_distribution.csv"))
+        fail(f"{', '.join(args)}: no finished run to plot (sweep.csv)")
+    out = out or os.path.join(args[0], "figures")
     os.makedirs(out, exist_ok=True)
     fig_wall_time(rows, out)
     fig_against_n(rows, out, "contacts", "N_c (4.5), pairs i != j", "contacts.png")

@@ -212,6 +212,22 @@ TEST(Sweep, TablesAreTheMeansOfTheRunsOwnFiles) {
   EXPECT_EQ(read_csv(out / "sweep_pair_distribution.csv").size(), 2u * 65u);
 }
 
+TEST(Sweep, RunsCutByTheirTimeLimitAreLeftOutOfTheMeans) {
+  // stop.wall_seconds = 1e-9: every run stops at its first check, far from one cluster.
+  TempDir dir;
+  const fs::path out = dir / "sweep";
+  const std::string text = std::string(kTinySweep) + "stop.wall_seconds = [1e-9]\n";
+  run_tiny_sweep(out, false, text.c_str());
+  const auto table = read_csv(out / "sweep.csv");
+  ASSERT_EQ(table.size(), 2u);
+  EXPECT_EQ(table[0].at("runs"), "0");
+  EXPECT_EQ(table[0].at("runs_cut"), "2");
+  EXPECT_EQ(table[0].at("wall_seconds_mean"), "nan");
+  const auto runs = read_csv(out / "runs.csv");
+  ASSERT_EQ(runs.size(), 4u);
+  EXPECT_EQ(runs[0].at("stop_reason"), "wall_seconds");
+}
+
 TEST(Sweep, ResumeRedoesOnlyTheRunsWithoutSummary) {
   TempDir dir;
   const fs::path out = dir / "sweep";

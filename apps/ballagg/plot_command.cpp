@@ -17,18 +17,19 @@
 namespace ballagg::cli {
 
 void add_plot_command(CLI::App& app, PlotCommand& p) {
-  p.command = app.add_subcommand("plot", "Draw the figures of a sweep (PNG, matplotlib)");
-  p.command->add_option("sweep_dir", p.sweep_dir, "Sweep directory (with sweep.csv)")->required();
-  p.command->add_option("--out", p.out_dir, "Where to write the PNG files (default SWEEP_DIR/figures)");
+  p.command = app.add_subcommand("plot", "Draw the figures of sweeps (PNG, matplotlib), their points together");
+  p.command->add_option("sweep_dirs", p.sweep_dirs, "Sweep directories (with sweep.csv)")->required();
+  p.command->add_option("--out", p.out_dir, "Where to write the PNG files (default: the first SWEEP_DIR/figures)");
 }
 
 int run_plot_command(const PlotCommand& p) {
-  if (!std::filesystem::is_directory(p.sweep_dir))
-    throw InputError(fmt::format("{}: not a sweep directory", p.sweep_dir));
+  for (const std::string& dir : p.sweep_dirs)
+    if (!std::filesystem::is_directory(dir)) throw InputError(fmt::format("{}: not a sweep directory", dir));
   const char* env = std::getenv("BALLAGG_PYTHON");
   const std::string python = env != nullptr && *env != '\0' ? env : "/usr/bin/python3";
-  std::vector<std::string> args = {python, "-", p.sweep_dir};
-  if (!p.out_dir.empty()) args.push_back(p.out_dir);
+  std::vector<std::string> args = {python, "-"};
+  if (!p.out_dir.empty()) args.insert(args.end(), {"--out", p.out_dir});
+  args.insert(args.end(), p.sweep_dirs.begin(), p.sweep_dirs.end());
 
   // The script goes to the interpreter's standard input ("python3 -"): no temporary file.
   int pipe_fds[2];

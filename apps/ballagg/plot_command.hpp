@@ -2,6 +2,7 @@
 // `ballagg plot`: the figures of a sweep (scripts/plot_sweep.py, run by Debian's
 // /usr/bin/python3 with matplotlib; BALLAGG_PYTHON names another interpreter).
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -9,7 +10,7 @@ namespace ballagg::cli {
 
 struct PlotCommand {
   CLI::App* command = nullptr;
-  std::string sweep_dir;
+  std::vector<std::string> sweep_dirs;
   std::string out_dir;
 };
 

@@ -192,9 +192,10 @@ void write_sweep_tables(const std::string& out_dir, const SweepSpec& spec, const
   std::map<int, std::vector<std::vector<double>>> values;
   std::map<int, std::vector<NumericTable>> box_tables, pair_tables;
   std::map<int, const Config*> point_config;
+  std::map<int, int> cut;  // per point: runs stopped by their computing-time limit
 
   fmt::memory_buffer per_run;
-  fmt::format_to(std::back_inserter(per_run), "point,realization,seed,run");
+  fmt::format_to(std::back_inserter(per_run), "point,realization,seed,run,stop_reason");
   for (const Indicator& ind : list) fmt::format_to(std::back_inserter(per_run), ",{}", ind.name);
   fmt::format_to(std::back_inserter(per_run), "\n");
   for (const SweepRun& r : runs) {
@@ -205,9 +206,16 @@ void write_sweep_tables(const std::string& out_dir, const SweepSpec& spec, const
     if (!summary || !analysis) continue;
     std::vector<double> row;
     for (const Indicator& ind : list) row.push_back(lookup(std::string(ind.file) == "summary" ? *summary : *analysis, ind));
-    fmt::format_to(std::back_inserter(per_run), "{},{},{},{}", r.point, r.realization, r.seed, r.name);
+    const std::string reason = summary->value("stop_reason", std::string());
+    fmt::format_to(std::back_inserter(per_run), "{},{},{},{},{}", r.point, r.realization, r.seed, r.name, reason);
     for (double v : row) fmt::format_to(std::back_inserter(per_run), ",{}", num(v));
     fmt::format_to(std::back_inserter(per_run), "\n");
+    // A run stopped by stop.wall_seconds (a resource limit, not a criterion of the state
+    // the sweep asks for) did not reach that state: listed in runs.csv, left out of the means.
+    if (reason == "wall_seconds") {
+      ++cut[r.point];
+      continue;
+    }
     values[r.point].push_back(std::move(row));
     if (auto t = read_numeric_csv(dir / "box_counting.csv")) box_tables[r.point].push_back(std::move(*t));
     if (auto t = read_numeric_csv(dir / "pair_distribution.csv")) pair_tables[r.point].push_back(std::move(*t));
@@ -216,7 +224,7 @@ void write_sweep_tables(const std::string& out_dir, const SweepSpec& spec, const
   fmt::memory_buffer table;
   fmt::format_to(std::back_inserter(table), "point,variant");
   for (const SweepAxis& a : spec.axes) fmt::format_to(std::back_inserter(table), ",{}", field(a.key));
-  fmt::format_to(std::back_inserter(table), ",method,dimension,n,volume_fraction,box_length,dt_factor,runs");
+  fmt::format_to(std::back_inserter(table), ",method,dimension,n,volume_fraction,box_length,dt_factor,runs,runs_cut");
   for (const Indicator& ind : list) fmt::format_to(std::back_inserter(table), ",{}_mean,{}_sem", ind.name, ind.name);
   fmt::format_to(std::back_inserter(table), "\n");
   fmt::memory_buffer boxes, pairs;
@@ -227,9 +235,9 @@ void write_sweep_tables(const std::string& out_dir, const SweepSpec& spec, const
     fmt::format_to(std::back_inserter(table), "{},{}", p.index, field(p.variant->label));
     for (const SweepSetting* s : p.values) fmt::format_to(std::back_inserter(table), ",{}", field(unquoted(s->value)));
     const std::vector<std::vector<double>>& v = values[p.index];
-    fmt::format_to(std::back_inserter(table), ",{},{},{},{},{},{},{}", method_of(c), c.system.dimension, c.system.n,
+    fmt::format_to(std::back_inserter(table), ",{},{},{},{},{},{},{},{}", method_of(c), c.system.dimension, c.system.n,
                    num(volume_fraction_of(c)), num(resolved_box_length(c)),
-                   c.engine.kind == EngineKind::ts ? num(c.ts.dt_factor) : "nan", v.size());
+                   c.engine.kind == EngineKind::ts ? num(c.ts.dt_factor) : "nan", v.size(), cut[p.index]);
     for (std::size_t k = 0; k < list.size(); ++k) {
       std::vector<double> xs;
       for (const std::vector<double>& row : v) xs.push_back(row[k]);
