@@ -110,6 +110,18 @@ TEST(MassRadius, FilledLatticeIsTwoDimensionalAndThreeIn3D) {
   EXPECT_NEAR(a3.clusters[0].mass_radius_dimension, 3.0, kDimensionTolerance);
 }
 
+TEST(CorrelationDimension, SlopeOfThePairDistributionOfLinesAndLattices) {
+  // P(r) of a line grows like r, of a filled lattice like r^2, up to the discreteness of
+  // touching spheres over 4R ... 20R: P of a chain is a staircase with steps every 2R,
+  // which the fit sees as 1.095 (tolerance 0.1); the square gives 1.955.
+  const double r = 0.2;
+  const auto line = analyze<2>(120.0, chain<2>(vec<2>(10, 50), vec<2>(1, 0), 250, r), r);
+  EXPECT_NEAR(line.pair_distribution.all_fit->slope, 1.0, 0.1);
+  const auto square = analyze<2>(40.0, lattice<2>(vec<2>(5, 5), 60, r), r);
+  EXPECT_NEAR(square.pair_distribution.all_fit->slope, 2.0, kDimensionTolerance);
+  EXPECT_NEAR(square.pair_distribution.cluster_fit->slope, 2.0, kDimensionTolerance);
+}
+
 TEST(MassRadius, SmallClustersHaveNoDimension) {
   const double r = 0.5;
   const auto a = analyze<2>(20.0, chain<2>(vec<2>(2, 2), vec<2>(1, 0), 5, r), r);

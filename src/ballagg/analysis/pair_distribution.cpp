@@ -39,6 +39,15 @@ PairDistribution pair_distribution(const Box<D>& box, const std::vector<Vec<D>>&
     p.all.push_back(n > 0 ? static_cast<double>(sum_all) / n : 0.0);
     p.cluster.push_back(cluster_size > 0 ? static_cast<double>(sum_own) / static_cast<double>(cluster_size) : 0.0);
   }
+  // Only where P > 0 (a cluster too small to reach r has no pairs there).
+  auto fit = [&](const std::vector<double>& values) {
+    std::vector<double> x, y;
+    for (std::size_t k = 0; k < values.size(); ++k)
+      if (values[k] > 0.0) x.push_back(std::log(p.r[k])), y.push_back(std::log(values[k]));
+    return fit_line(x, y);
+  };
+  p.all_fit = fit(p.all);
+  p.cluster_fit = fit(p.cluster);
   return p;
 }
 

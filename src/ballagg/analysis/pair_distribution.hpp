@@ -5,9 +5,17 @@
 // paper's range: beyond the contacts of N_c, up to ten diameters) at steps of
 // kPairDistributionStep R, R the mean radius. Computed for all spheres of the box and,
 // in the same pass, for the pairs inside one chosen cluster (normalised by its size).
+//
+// P(r) is the correlation integral of the centres: for a fractal P(r) ~ r^D_2, so the
+// slope of log P against log r over the table is a third estimate of the fractal
+// dimension (the correlation dimension, Grassberger & Procaccia 1983), averaged over every
+// centre rather than seen from the centre of mass (mass_radius.hpp) or on a fixed grid
+// (box_counting.hpp).
 #include <cstdint>
+#include <optional>
 #include <vector>
 
+#include "ballagg/analysis/linear_fit.hpp"
 #include "ballagg/core/vec.hpp"
 #include "ballagg/spatial/box.hpp"
 
@@ -21,6 +29,7 @@ struct PairDistribution {
   std::vector<double> r;        // the table's distances (absolute lengths)
   std::vector<double> all;      // P(r) over every sphere of the box
   std::vector<double> cluster;  // P(r) over the chosen cluster's own pairs
+  std::optional<LinearFit> all_fit, cluster_fit;  // log P against log r: slope = D_2
 };
 
 // label: per sphere its cluster; cluster: the chosen one (its spheres have that label).

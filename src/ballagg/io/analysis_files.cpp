@@ -145,11 +145,16 @@ std::map<std::string, std::string> analysis_files(const AggregateAnalysis<D>& a,
                           {"fractal_min_size", kFractalMinSize}};
   j["all_spheres"] = Json{{"contacts", number(a.contacts)},
                           {"contacts_with_self", number(relative_contacts_with_self<D>(a.contacts))},
-                          {"box_counting", box_counting_json(a.box_counting)}};
+                          {"box_counting", box_counting_json(a.box_counting)},
+                          {"correlation_dimension", a.pair_distribution.all_fit ? number(a.pair_distribution.all_fit->slope) : Json(nullptr)},
+                          {"correlation_fit", fit_json(a.pair_distribution.all_fit)}};
   Json largest = cluster_json(a.clusters[a.largest]);
   largest["cluster"] = a.largest;
   largest["box_counting"] = box_counting_json(a.largest_box_counting);
   largest["mass_radius_fit"] = fit_json(a.largest_mass_radius.fit);
+  largest["correlation_dimension"] =
+      a.pair_distribution.cluster_fit ? number(a.pair_distribution.cluster_fit->slope) : Json(nullptr);
+  largest["correlation_fit"] = fit_json(a.pair_distribution.cluster_fit);
   j["largest_cluster"] = largest;
   j["population"] = Json{{"clusters_used", a.population.clusters},
                          {"min_size", kPopulationMinSize},
