@@ -53,6 +53,16 @@ def label_of(row):
     return row["method"] if math.isnan(dt) else f"{row['method']} dt={dt:g}"
 
 
+_colours = {}
+
+
+def colour(label):
+    """One colour per method label, the same in every panel and figure."""
+    if label not in _colours:
+        _colours[label] = plt.get_cmap("tab10")(len(_colours) % 10)
+    return _colours[label]
+
+
 def group(rows, key):
     out = {}
     for r in rows:
@@ -101,7 +111,7 @@ def fig_wall_time(rows, out):
             if len(set(n)) >= 2:
                 slope = np.polyfit(np.log(n), np.log(m), 1)[0]
                 text += f": N^{slope:.2f}"
-            ax.errorbar(n, m, yerr=e, marker="o", ms=3, capsize=2, label=text)
+            ax.errorbar(n, m, yerr=e, marker="o", ms=3, capsize=2, label=text, color=colour(lab))
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("N")
@@ -118,7 +128,7 @@ def fig_against_n(rows, out, column, ylabel, name, reference=None, logy=False):
         for lab, lrows in sorted(group(vrows, label_of).items()):
             n, m, e = series(lrows, column)
             if len(n):
-                ax.errorbar(n, m, yerr=e, marker="o", ms=3, capsize=2, label=lab)
+                ax.errorbar(n, m, yerr=e, marker="o", ms=3, capsize=2, label=lab, color=colour(lab))
         if reference is not None:
             ax.axhline(reference[0], color="grey", ls=":", lw=1, label=reference[1])
         ax.set_xscale("log")
@@ -154,7 +164,8 @@ def fig_pair_distribution(rows, pairs, out):
                 continue
             x = [number(p, "r_over_R") for p in curve]
             y = [number(p, "P_all_mean") for p in curve]
-            ax.plot(x, y, ls=styles[vfs.index(vf_key(r)) % len(styles)], label=f"{label_of(r)} Vf={vf_key(r):g}")
+            ax.plot(x, y, ls=styles[vfs.index(vf_key(r)) % len(styles)], color=colour(label_of(r)),
+                    label=f"{label_of(r)} Vf={vf_key(r):g}")
         ax.set_xlabel("r / R")
         ax.set_ylabel("P(r) (4.6)")
         ax.set_title(f"N = {n:g}")
@@ -180,7 +191,7 @@ def fig_box_counting(rows, boxes, out):
             count = [number(b, "boxes_all_mean") for b in curve]
             err = [number(b, "boxes_all_sem") for b in curve]
             d = number(r, "box_counting_dimension_mean")
-            ax.errorbar(eps, count, yerr=np.nan_to_num(err), marker="o", ms=3, capsize=2,
+            ax.errorbar(eps, count, yerr=np.nan_to_num(err), marker="o", ms=3, capsize=2, color=colour(label_of(r)),
                         label=f"{label_of(r)}: D_f={d:.3f}")
         ax.set_xscale("log")
         ax.set_yscale("log")
@@ -194,10 +205,13 @@ def fig_box_counting(rows, boxes, out):
 def fig_fractal_dimension(rows, out):
     """Fig 12: D_f against N (left) and the relative error of each TS method against ED."""
     fig, axes = panels(2, width=5.0)
+    styles = ["-", "--", ":", "-."]
+    vfs = sorted({vf_key(r) for r in rows})
     for (lab, vf), lrows in sorted(group(rows, lambda r: (label_of(r), vf_key(r))).items()):
         n, m, e = series(lrows, "box_counting_dimension")
         if len(n):
-            axes[0].errorbar(n, m, yerr=e, marker="o", ms=3, capsize=2, label=f"{lab} Vf={vf:g}")
+            axes[0].errorbar(n, m, yerr=e, marker="o", ms=3, capsize=2, color=colour(lab),
+                             ls=styles[vfs.index(vf) % len(styles)], label=f"{lab} Vf={vf:g}")
     ed = {(number(r, "n"), vf_key(r)): number(r, "box_counting_dimension_mean")
           for r in rows if r["method"] == "ed"}
     for (lab, vf), lrows in sorted(group([r for r in rows if r["method"].startswith("ts")],
@@ -210,7 +224,8 @@ def fig_fractal_dimension(rows, out):
                 xs.append(n)
                 ys.append(abs(d - ref) / ref)
         if xs:
-            axes[1].plot(xs, ys, marker="o", ms=3, label=f"{lab} Vf={vf:g}")
+            axes[1].plot(xs, ys, marker="o", ms=3, color=colour(lab), ls=styles[vfs.index(vf) % len(styles)],
+                         label=f"{lab} Vf={vf:g}")
     axes[0].set_ylabel("D_f (box counting, 4.7)")
     axes[1].set_ylabel("|D_f,TS - D_f,ED| / D_f,ED")
     for ax in axes:
