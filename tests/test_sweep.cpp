@@ -333,3 +333,16 @@ TEST(PlotCli, DrawsTheFiguresOfASweep) {
   EXPECT_EQ(bad.status, 2);
   EXPECT_CONTAINS(bad.err, "sweep.csv: missing");
 }
+
+TEST(SweepFile, CommittedSweepFilesAreValid) {
+  // bench/paper_table1_*.toml: the reproduction of docs/validation.md must stay runnable.
+  int seen = 0;
+  for (const auto& entry : fs::directory_iterator(std::string(BALLAGG_SOURCE_DIR) + "/bench")) {
+    if (entry.path().extension() != ".toml") continue;
+    SCOPED_TRACE(entry.path().string());
+    const ballagg::SweepSpec spec = ballagg::load_sweep(entry.path().string());
+    EXPECT_FALSE(ballagg::sweep_runs(spec, ballagg::sweep_points(spec)).empty());
+    ++seen;
+  }
+  EXPECT_GE(seen, 2);
+}
