@@ -29,7 +29,7 @@ try:
 except ImportError as e:
     fail(f"{e} (install Debian's python3-matplotlib and python3-numpy: scripts/setup)")
 
-DPI = 90  # small PNGs for the repository
+DPI = 80  # small PNGs for the repository
 
 
 def read_csv(path):
@@ -88,8 +88,21 @@ def panels(count, width=4.0, height=3.2):
     return fig, axes[0]
 
 
-def save(fig, out, name):
-    fig.tight_layout()
+def save(fig, out, name, legend_outside=False):
+    """legend_outside: one legend for the figure, right of the panels (many lines)."""
+    if legend_outside:
+        handles, labels = {}, []
+        for ax in fig.axes:
+            for h, l in zip(*ax.get_legend_handles_labels()):
+                if l not in handles:
+                    handles[l] = h
+                    labels.append(l)
+            if ax.get_legend():
+                ax.get_legend().remove()
+        fig.legend([handles[l] for l in labels], labels, loc="center right", fontsize=6)
+        fig.tight_layout(rect=(0, 0, 0.78, 1))
+    else:
+        fig.tight_layout()
     path = os.path.join(out, name)
     fig.savefig(path, dpi=DPI)
     plt.close(fig)
@@ -152,7 +165,7 @@ def chosen_n(rows, count):
 def fig_pair_distribution(rows, pairs, out):
     """Fig 9: P(r) against r/R, one panel per N, a line per method and volume fraction."""
     ns = chosen_n(rows, 3)
-    fig, axes = panels(len(ns))
+    fig, axes = panels(len(ns), width=4.8)
     styles = ["-", "--", ":", "-."]
     vfs = sorted({vf_key(r) for r in rows})
     for ax, n in zip(axes, ns):
@@ -170,7 +183,7 @@ def fig_pair_distribution(rows, pairs, out):
         ax.set_ylabel("P(r) (4.6)")
         ax.set_title(f"N = {n:g}")
         ax.legend(fontsize=6)
-    save(fig, out, "pair_distribution.png")
+    save(fig, out, "pair_distribution.png", legend_outside=True)
 
 
 def fig_box_counting(rows, boxes, out):
@@ -204,7 +217,7 @@ def fig_box_counting(rows, boxes, out):
 
 def fig_fractal_dimension(rows, out):
     """Fig 12: D_f against N (left) and the relative error of each TS method against ED."""
-    fig, axes = panels(2, width=5.0)
+    fig, axes = panels(2, width=6.0)
     styles = ["-", "--", ":", "-."]
     vfs = sorted({vf_key(r) for r in rows})
     for (lab, vf), lrows in sorted(group(rows, lambda r: (label_of(r), vf_key(r))).items()):
@@ -232,7 +245,7 @@ def fig_fractal_dimension(rows, out):
         ax.set_xscale("log")
         ax.set_xlabel("N")
         ax.legend(fontsize=6)
-    save(fig, out, "fractal_dimension.png")
+    save(fig, out, "fractal_dimension.png", legend_outside=True)
 
 
 def read_tagged(sweep, name):
