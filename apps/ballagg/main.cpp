@@ -13,6 +13,9 @@
 #include "ballagg/config/config.hpp"
 #include "ballagg/run/simulation.hpp"
 #include "ballagg/version.hpp"
+#include "analyze_command.hpp"
+#include "plot_command.hpp"
+#include "sweep_command.hpp"
 
 namespace {
 
@@ -52,6 +55,13 @@ int main(int argc, char** argv) {
   CLI::App* show = app.add_subcommand("config", "Print the configuration that a run would use, as TOML");
   add_config_args(*show, show_args);
 
+  ballagg::cli::AnalyzeCommand analyze;
+  ballagg::cli::add_analyze_command(app, analyze);
+  ballagg::cli::SweepCommand sweep;
+  ballagg::cli::add_sweep_command(app, sweep);
+  ballagg::cli::PlotCommand plot;
+  ballagg::cli::add_plot_command(app, plot);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -62,8 +72,8 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // CLI11 reports "a subcommand is required" for a misspelt command: name it instead.
-    if (!*run && !*show && argc > 1 && argv[1][0] != '-') {
-      fmt::print(stderr, "ballagg: error: unknown command '{}' (commands: run, config; see ballagg --help)\n",
+    if (!*run && !*show && !*analyze.command && !*sweep.command && !*plot.command && argc > 1 && argv[1][0] != '-') {
+      fmt::print(stderr, "ballagg: error: unknown command '{}' (commands: run, config, analyze, sweep, plot; see ballagg --help)\n",
                  argv[1]);
       return kBadInput;
     }
@@ -72,6 +82,9 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (*analyze.command) return ballagg::cli::run_analyze_command(analyze);
+    if (*sweep.command) return ballagg::cli::run_sweep_command(sweep);
+    if (*plot.command) return ballagg::cli::run_plot_command(plot);
     if (*show) {
       const ballagg::Config c = ballagg::load_config(show_args.file, show_args.overrides);
       std::cout << ballagg::to_toml_text(c);
