@@ -13,6 +13,7 @@
 #include "ballagg/config/config.hpp"
 #include "ballagg/run/simulation.hpp"
 #include "ballagg/version.hpp"
+#include "render_command.hpp"
 
 namespace {
 
@@ -52,6 +53,9 @@ int main(int argc, char** argv) {
   CLI::App* show = app.add_subcommand("config", "Print the configuration that a run would use, as TOML");
   add_config_args(*show, show_args);
 
+  ballagg::cli::RenderArgs render_args;
+  CLI::App* render = ballagg::cli::add_render_command(app, render_args);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -62,8 +66,8 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // CLI11 reports "a subcommand is required" for a misspelt command: name it instead.
-    if (!*run && !*show && argc > 1 && argv[1][0] != '-') {
-      fmt::print(stderr, "ballagg: error: unknown command '{}' (commands: run, config; see ballagg --help)\n",
+    if (!*run && !*show && !*render && argc > 1 && argv[1][0] != '-') {
+      fmt::print(stderr, "ballagg: error: unknown command '{}' (commands: run, config, render; see ballagg --help)\n",
                  argv[1]);
       return kBadInput;
     }
@@ -72,6 +76,7 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (*render) return ballagg::cli::run_render_command(render_args);
     if (*show) {
       const ballagg::Config c = ballagg::load_config(show_args.file, show_args.overrides);
       std::cout << ballagg::to_toml_text(c);

@@ -45,11 +45,31 @@ struct Particles {
 template <int D>
 Particles<D> particles_of(const State<D>& s);
 
+// What a frame is computed from, copied out of the state in a few memcpy's: the run can
+// go on while another thread turns it into a Frame (assemble_frame).
+template <int D>
+struct FrameSource {
+  double time = 0.0;
+  std::int64_t step = 0;
+  int n_clusters = 0, largest_cluster = 0;
+  double kinetic_energy = 0.0;
+  Box<D> box;
+  std::vector<Vec<D>> offset;             // per sphere, as in State::spheres
+  std::vector<std::int32_t> cluster;
+  std::vector<Vec<D>> origin, velocity;   // per cluster id at `time` (dead ids: unused)
+};
+
 // The state at time t, for t from s.time up to the next event (positions are lazy). With
 // `mirror_at_walls` (the time-stepping engine, whose walls act at the end of a step), a
 // cluster that has flown through a wall since s.time is shown mirrored back, as the next
 // step will put it (rule 2.2): frames between two steps show the free flight of step (i).
 template <int D>
 Frame<D> capture_frame(const State<D>& s, double t, std::int64_t step, bool mirror_at_walls = false);
+
+// The two halves of capture_frame; both reuse the memory `out` already holds.
+template <int D>
+void capture_source(const State<D>& s, double t, std::int64_t step, bool mirror_at_walls, FrameSource<D>& out);
+template <int D>
+void assemble_frame(const FrameSource<D>& source, Frame<D>& out);
 
 }  // namespace ballagg

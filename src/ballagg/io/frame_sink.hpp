@@ -9,8 +9,6 @@ class FrameSink {
  public:
   virtual ~FrameSink() = default;
   virtual void write(const Frame<D>& frame) = 0;
-  // The same, for a frame the caller no longer needs (a queue can keep it without a copy).
-  virtual void take(Frame<D>&& frame) { write(frame); }
   // Completes the output (a file is closed and renamed into place). A sink destroyed
   // without finish() leaves nothing behind.
   virtual void finish() = 0;

@@ -3,19 +3,20 @@
 #include <cmath>
 #include <filesystem>
 
-#include "ballagg/io/background_sink.hpp"
 #include "ballagg/io/h5md_writer.hpp"
 #include "ballagg/io/xyz_trajectory_writer.hpp"
 
 namespace ballagg {
 
 template <int D>
-SnapshotRecorder<D>::SnapshotRecorder(double every, std::unique_ptr<FrameSink<D>> sink, bool mirror_at_walls)
-    : every_(every), sink_(std::move(sink)), mirror_at_walls_(mirror_at_walls) {}
+SnapshotRecorder<D>::SnapshotRecorder(double every, std::vector<std::unique_ptr<FrameSink<D>>> sinks,
+                                      bool mirror_at_walls)
+    : every_(every), writer_(std::move(sinks)), mirror_at_walls_(mirror_at_walls) {}
 
 template <int D>
 void SnapshotRecorder<D>::take(const State<D>& s, double t) {
-  sink_->take(capture_frame(s, t, events_, mirror_at_walls_));
+  capture_source(s, t, events_, mirror_at_walls_, writer_.acquire());
+  writer_.submit();
   ++frames_;
   last_time_ = t;
   last_events_ = events_;
@@ -45,7 +46,7 @@ void SnapshotRecorder<D>::on_finish(const State<D>& s, const RunResult& r) {
   events_ = r.counters.events;
   // The final state, unless the last frame already is it (a run stopped at k * every).
   if (s.time != last_time_ || events_ != last_events_) take(s, s.time);
-  sink_->finish();
+  writer_.finish();
 }
 
 template <int D>
@@ -59,8 +60,7 @@ std::unique_ptr<SnapshotRecorder<D>> make_snapshot_recorder(const Config& c, con
     if (f == SnapshotFormat::h5md) sinks.push_back(std::make_unique<H5mdWriter<D>>(path, particles, to_toml_text(c)));
     else sinks.push_back(std::make_unique<XyzTrajectoryWriter<D>>(path, particles));
   }
-  return std::make_unique<SnapshotRecorder<D>>(c.output.snapshot_every,
-                                               std::make_unique<BackgroundSink<D>>(std::move(sinks)),
+  return std::make_unique<SnapshotRecorder<D>>(c.output.snapshot_every, std::move(sinks),
                                                c.engine.kind == EngineKind::ts);
 }
 

@@ -10,7 +10,7 @@
 
 #include "ballagg/config/config.hpp"
 #include "ballagg/engines/engine.hpp"
-#include "ballagg/io/frame_sink.hpp"
+#include "ballagg/io/background_writer.hpp"
 
 namespace ballagg {
 
@@ -18,7 +18,7 @@ template <int D>
 class SnapshotRecorder final : public RunObserver<D> {
  public:
   // `mirror_at_walls`: see capture_frame (true for the time-stepping engine).
-  SnapshotRecorder(double every, std::unique_ptr<FrameSink<D>> sink, bool mirror_at_walls);
+  SnapshotRecorder(double every, std::vector<std::unique_ptr<FrameSink<D>>> sinks, bool mirror_at_walls);
 
   void on_start(const State<D>& s) override;
   void before_event(const State<D>& s, double t) override;
@@ -32,7 +32,7 @@ class SnapshotRecorder final : public RunObserver<D> {
   void take(const State<D>& s, double t);
 
   double every_;
-  std::unique_ptr<FrameSink<D>> sink_;
+  BackgroundWriter<D> writer_;
   bool mirror_at_walls_;
   std::int64_t next_k_ = 1;
   std::int64_t events_ = 0;
