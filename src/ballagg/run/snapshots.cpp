@@ -30,15 +30,17 @@ void SnapshotRecorder<D>::on_start(const State<D>& s) {
 
 template <int D>
 void SnapshotRecorder<D>::before_event(const State<D>& s, double t) {
-  // Frames due before the event (or at its instant, before it is handled) describe the
-  // state as it still is.
-  for (; next_time() <= t; ++next_k_)
+  // Frames due before the event describe the state as it still is.
+  for (; next_time() < t; ++next_k_)
     if (next_time() >= s.time) take(s, next_time());
 }
 
 template <int D>
-void SnapshotRecorder<D>::after_event(const State<D>&, const EventRecord&, const EngineCounters& c) {
+void SnapshotRecorder<D>::after_event(const State<D>& s, const EventRecord&, const EngineCounters& c) {
   events_ = c.events;
+  // A frame due at the very instant of an event (or at the end of a time step) shows the
+  // state after it: for the time-stepping engine, the state the step resolved.
+  for (; next_time() <= s.time; ++next_k_) take(s, next_time());
 }
 
 template <int D>

@@ -3,7 +3,8 @@
 // simulated time (t = k * every, k = 1, 2, ...), and the final state. Positions are lazy
 // (State::position is valid at any time up to the next event), so a frame at k * every is
 // written from before_event, between two events (ed) or two steps (ts), without changing
-// the run: a run with snapshots gives the same results as one without.
+// the run: a run with snapshots gives the same results as one without. A frame due at the
+// instant of an event, or of the end of a time step, shows the state after it.
 #include <memory>
 #include <string>
 #include <vector>
