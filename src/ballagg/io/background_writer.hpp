@@ -20,7 +20,7 @@ namespace ballagg {
 template <int D>
 class BackgroundWriter {
  public:
-  explicit BackgroundWriter(std::vector<std::unique_ptr<FrameSink<D>>> sinks, int capacity = 2);
+  explicit BackgroundWriter(std::vector<std::unique_ptr<FrameSink<D>>> sinks, int capacity = 4);
   ~BackgroundWriter();  // stops the thread; unfinished sinks leave nothing behind
   BackgroundWriter(const BackgroundWriter&) = delete;
   BackgroundWriter& operator=(const BackgroundWriter&) = delete;

@@ -183,8 +183,11 @@ Series::Series(hid_t parent, const std::string& name, hid_t type, std::vector<hs
     check(H5Pset_shuffle(dcpl), "shuffle filter of " + name);
     check(H5Pset_deflate(dcpl, 1), "deflate filter of " + name);
   }
-  dataset_ = Handle(check(H5Dcreate2(parent, name.c_str(), type, space, H5P_DEFAULT, dcpl, H5P_DEFAULT),
-                          "dataset " + name),
+  // Records are written whole, once: no chunk cache (HDF5 writes the chunks directly,
+  // without copying them through the cache first).
+  const Handle dapl(check(H5Pcreate(H5P_DATASET_ACCESS), "dataset access"), H5Pclose);
+  check(H5Pset_chunk_cache(dapl, 0, 0, 1.0), "dataset access");
+  dataset_ = Handle(check(H5Dcreate2(parent, name.c_str(), type, space, H5P_DEFAULT, dcpl, dapl), "dataset " + name),
                     H5Dclose);
 }
 
