@@ -60,9 +60,9 @@ void draw_picture(cairo_t* cr, const Scene<D>& s, const Layout& l, const Picture
 }
 
 template <int D>
-cairo_surface_t* render_image(const Scene<D>& s, const PictureOptions& o) {
+cairo_surface_t* render_image(const Scene<D>& s, const PictureOptions& o, cairo_format_t format) {
   const Layout l = make_layout(o.width);
-  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, l.width, l.height);
+  cairo_surface_t* surface = cairo_image_surface_create(format, l.width, l.height);
   cairo_t* cr = cairo_create(surface);
   draw_picture(cr, s, l, o);
   cairo_destroy(cr);
@@ -72,7 +72,7 @@ cairo_surface_t* render_image(const Scene<D>& s, const PictureOptions& o) {
 
 template <int D>
 void write_png(const Scene<D>& s, const PictureOptions& o, const std::string& path) {
-  cairo_surface_t* surface = render_image(s, o);
+  cairo_surface_t* surface = render_image(s, o, CAIRO_FORMAT_RGB24);
   const std::string temporary = temporary_path_for(path);
   const cairo_status_t status = cairo_surface_write_to_png(surface, temporary.c_str());
   cairo_surface_destroy(surface);
@@ -98,8 +98,8 @@ void write_svg(const Scene<D>& s, const PictureOptions& o, const std::string& pa
 
 template void draw_picture<2>(cairo_t*, const Scene<2>&, const Layout&, const PictureOptions&);
 template void draw_picture<3>(cairo_t*, const Scene<3>&, const Layout&, const PictureOptions&);
-template cairo_surface_t* render_image<2>(const Scene<2>&, const PictureOptions&);
-template cairo_surface_t* render_image<3>(const Scene<3>&, const PictureOptions&);
+template cairo_surface_t* render_image<2>(const Scene<2>&, const PictureOptions&, cairo_format_t);
+template cairo_surface_t* render_image<3>(const Scene<3>&, const PictureOptions&, cairo_format_t);
 template void write_png<2>(const Scene<2>&, const PictureOptions&, const std::string&);
 template void write_png<3>(const Scene<3>&, const PictureOptions&, const std::string&);
 template void write_svg<2>(const Scene<2>&, const PictureOptions&, const std::string&);

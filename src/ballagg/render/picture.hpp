@@ -27,8 +27,10 @@ void write_png(const Scene<D>& scene, const PictureOptions& options, const std::
 template <int D>
 void write_svg(const Scene<D>& scene, const PictureOptions& options, const std::string& path);
 
-// The page as an ARGB32 image surface (the caller destroys it).
+// The page as an image surface (the caller destroys it): ARGB32 for video frames, RGB24
+// for PNG files (three channels: smaller files, the page is opaque anyway).
 template <int D>
-cairo_surface_t* render_image(const Scene<D>& scene, const PictureOptions& options);
+cairo_surface_t* render_image(const Scene<D>& scene, const PictureOptions& options,
+                              cairo_format_t format = CAIRO_FORMAT_ARGB32);
 
 }  // namespace ballagg
