@@ -21,16 +21,21 @@ void capture_source(const State<D>& s, double t, std::int64_t step, bool mirror_
   out.box = s.box;
   out.offset = s.spheres.offset;  // reuses out's memory: a memcpy
   out.cluster = s.spheres.cluster;
-  out.origin.resize(s.clusters.size());
-  out.velocity.resize(s.clusters.size());
+  // Only live clusters are read and stored: late in a run they are few.
+  if (out.slot.size() != s.clusters.size()) out.slot.resize(s.clusters.size());
+  out.origin.resize(s.alive_clusters().size());
+  out.velocity.resize(s.alive_clusters().size());
+  std::int32_t k = 0;
   for (int c : s.alive_clusters()) {
-    out.origin[c] = s.origin(c, t);
-    out.velocity[c] = s.clusters[c].velocity;
+    out.slot[c] = k;
+    out.origin[k] = s.origin(c, t);
+    out.velocity[k] = s.clusters[c].velocity;
     if (mirror_at_walls && !s.box.periodic()) {
       const WallCorrection<D> w = wall_correction(s, c, t);
-      out.origin[c] += w.shift;
-      out.velocity[c] = w.velocity;
+      out.origin[k] += w.shift;
+      out.velocity[k] = w.velocity;
     }
+    ++k;
   }
 }
 
@@ -51,7 +56,7 @@ void assemble_frame(const FrameSource<D>& src, Frame<D>& f) {
   std::int32_t next = 0;
   const double length = src.box.length;
   for (int i = 0; i < n; ++i) {
-    const int c = src.cluster[i];
+    const int c = src.slot[src.cluster[i]];
     // The same sum as State::position, so the last frame equals final.csv bit for bit.
     const Vec<D> x = src.origin[c] + src.offset[i];
     f.position[i] = src.box.wrap(x);

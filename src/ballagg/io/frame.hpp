@@ -56,7 +56,8 @@ struct FrameSource {
   Box<D> box;
   std::vector<Vec<D>> offset;             // per sphere, as in State::spheres
   std::vector<std::int32_t> cluster;
-  std::vector<Vec<D>> origin, velocity;   // per cluster id at `time` (dead ids: unused)
+  std::vector<std::int32_t> slot;         // per cluster id: its index below (dead ids: unset)
+  std::vector<Vec<D>> origin, velocity;   // per live cluster: body origin at `time`, velocity
 };
 
 // The state at time t, for t from s.time up to the next event (positions are lazy). With

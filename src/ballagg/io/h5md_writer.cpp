@@ -98,7 +98,7 @@ struct H5mdWriter<D>::Impl {
     velocity = std::make_unique<Series>(element(all, "velocity"), "value", H5T_NATIVE_DOUBLE,
                                         std::vector<hsize_t>{un, D}, rows, Series::Compression::none);
     cluster = std::make_unique<Series>(element(all, "cluster"), "value", H5T_NATIVE_INT32, std::vector<hsize_t>{un},
-                                       kChunkValues, Series::Compression::shuffle_deflate);
+                                       kChunkValues, Series::Compression::none);
     const Handle observables = hdf5::create_group(file, "observables");
     clusters = std::make_unique<Series>(element(observables, "clusters"), "value", H5T_NATIVE_INT32,
                                         std::vector<hsize_t>{}, kScalarChunk, Series::Compression::none);
