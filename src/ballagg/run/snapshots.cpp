@@ -30,23 +30,22 @@ void SnapshotRecorder<D>::on_start(const State<D>& s) {
 
 template <int D>
 void SnapshotRecorder<D>::before_event(const State<D>& s, double t) {
-  // Frames due before the event describe the state as it still is.
+  // Frames due before the event describe the state as it still is. A frame due at the
+  // very instant of an event (or of the end of a time step) is taken here at the next
+  // call, or by on_finish: it shows the state after the event (the state a step resolved).
   for (; next_time() < t; ++next_k_)
     if (next_time() >= s.time) take(s, next_time());
 }
 
 template <int D>
-void SnapshotRecorder<D>::after_event(const State<D>& s, const EventRecord&, const EngineCounters& c) {
+void SnapshotRecorder<D>::after_event(const State<D>&, const EventRecord&, const EngineCounters& c) {
   events_ = c.events;
-  // A frame due at the very instant of an event (or at the end of a time step) shows the
-  // state after it: for the time-stepping engine, the state the step resolved.
-  for (; next_time() <= s.time; ++next_k_) take(s, next_time());
 }
 
 template <int D>
 void SnapshotRecorder<D>::on_finish(const State<D>& s, const RunResult& r) {
   events_ = r.counters.events;
-  // The final state, unless the last frame already is it (a run stopped at k * every).
+  // The final state, unless the last frame already is it (no event since, same time).
   if (s.time != last_time_ || events_ != last_events_) take(s, s.time);
   writer_.finish();
 }
