@@ -1,6 +1,7 @@
 #pragma once
-// Running the ballagg binary from a test: arguments quoted for the shell, standard output
-// and error captured, a hung command killed after a minute (status 124).
+// Running the ballagg binary from a test: each argument quoted for the shell, its status,
+// stdout and stderr captured; a run that hangs is killed after a minute (status 124).
+// Used by test_cli, test_sweep, test_snapshots and test_render.
 #include <sys/wait.h>
 
 #include <cstdlib>
@@ -16,37 +17,42 @@
 
 namespace ballagg::testing {
 
-struct CommandOutcome {
-  int status = -1;
-  std::string out, err;
-};
-
-inline std::string shell_quoted(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-inline std::string read_file(const std::filesystem::path& p) {
+inline std::string slurp(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::stringstream s;
   s << in.rdbuf();
   return s.str();
 }
 
-// Runs `prefix ballagg args...` with its output in scratch files under `scratch`.
-inline CommandOutcome run_ballagg(const std::filesystem::path& scratch, const std::vector<std::string>& args,
-                                  const std::string& prefix = "") {
-  std::string command = "timeout -k 5 60 " + prefix + " " + shell_quoted(BALLAGG_BINARY);
-  for (const std::string& a : args) command.append(" ").append(shell_quoted(a));
+inline void write(const std::filesystem::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+
+inline std::string quoted(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
+struct Outcome {
+  int status = -1;
+  std::string out, err;
+};
+
+// Runs `launcher ballagg args...` with its output captured in files of `scratch` (then
+// removed). `launcher` is a shell prefix such as "mpirun -np 2", empty for a plain run.
+inline Outcome run_ballagg(const std::vector<std::string>& args, const std::filesystem::path& scratch,
+                           const std::string& launcher = "") {
+  std::string command = "timeout -k 5 60 ";
+  if (!launcher.empty()) command.append(launcher).append(" ");
+  command += quoted(BALLAGG_BINARY);
+  for (const std::string& a : args) command.append(" ").append(quoted(a));
   const std::filesystem::path out = scratch / ".stdout", err = scratch / ".stderr";
-  command.append(" >").append(shell_quoted(out.string())).append(" 2>").append(shell_quoted(err.string()));
+  command.append(" >").append(quoted(out.string())).append(" 2>").append(quoted(err.string()));
   command.append(" </dev/null");
   const int raw = std::system(command.c_str());
-  CommandOutcome o;
+  Outcome o;
   o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  o.out = read_file(out);
-  o.err = read_file(err);
+  o.out = slurp(out);
+  o.err = slurp(err);
   std::filesystem::remove(out);
   std::filesystem::remove(err);
   return o;

@@ -23,7 +23,7 @@
 
 namespace fs = std::filesystem;
 using ballagg::InputError;
-using ballagg::testing::read_file;
+using ballagg::testing::slurp;
 using ballagg::testing::run_ballagg;
 using ballagg::testing::TempDir;
 
@@ -53,7 +53,7 @@ std::string sweep_error(const std::string& text) {
 
 // A CSV file as rows of column -> text.
 std::vector<std::map<std::string, std::string>> read_csv(const fs::path& p) {
-  std::istringstream in(read_file(p));
+  std::istringstream in(slurp(p));
   std::string line;
   std::getline(in, line);
   std::vector<std::string> header;
@@ -72,7 +72,7 @@ std::vector<std::map<std::string, std::string>> read_csv(const fs::path& p) {
   return rows;
 }
 
-nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(read_file(p)); }
+nlohmann::json read_json(const fs::path& p) { return nlohmann::json::parse(slurp(p)); }
 
 ballagg::SweepOutcome run_tiny_sweep(const fs::path& out, bool resume = false, const char* text = kTinySweep) {
   const ballagg::Communicator world;
@@ -259,15 +259,15 @@ TEST(SweepCli, TwoMpiRanksGiveTheRunsOfOneProcess) {
   if (std::system("command -v mpirun >/dev/null 2>&1") != 0) GTEST_SKIP() << "mpirun not installed (scripts/setup)";
   TempDir dir;
   const fs::path file = dir.write("tiny.toml", kTinySweep);
-  const auto serial = run_ballagg(dir.path(), {"sweep", file.string(), "--out", (dir / "one").string(), "-q"});
+  const auto serial = run_ballagg({"sweep", file.string(), "--out", (dir / "one").string(), "-q"}, dir.path());
   ASSERT_EQ(serial.status, 0) << serial.err;
-  const auto mpi = run_ballagg(dir.path(), {"sweep", file.string(), "--out", (dir / "two").string(), "-q"},
+  const auto mpi = run_ballagg({"sweep", file.string(), "--out", (dir / "two").string(), "-q"}, dir.path(),
                                "mpirun --allow-run-as-root --oversubscribe -np 2");
   ASSERT_EQ(mpi.status, 0) << mpi.err << mpi.out;
   EXPECT_CONTAINS(mpi.out, "sweep: 4 runs done, 0 already finished, 0 failed");
   for (const char* run : {"p000-r00", "p000-r01", "p001-r00", "p001-r01"}) {
-    EXPECT_EQ(read_file(dir / "one" / "runs" / run / "final.csv"), read_file(dir / "two" / "runs" / run / "final.csv"));
-    EXPECT_EQ(read_file(dir / "one" / "runs" / run / "clusters.csv"), read_file(dir / "two" / "runs" / run / "clusters.csv"));
+    EXPECT_EQ(slurp(dir / "one" / "runs" / run / "final.csv"), slurp(dir / "two" / "runs" / run / "final.csv"));
+    EXPECT_EQ(slurp(dir / "one" / "runs" / run / "clusters.csv"), slurp(dir / "two" / "runs" / run / "clusters.csv"));
   }
   EXPECT_EQ(read_csv(dir / "two" / "sweep.csv").size(), 2u);
 }
@@ -275,7 +275,7 @@ TEST(SweepCli, TwoMpiRanksGiveTheRunsOfOneProcess) {
 TEST(SweepCli, BadSweepFileExitsWithStatus2AndOneLine) {
   TempDir dir;
   const fs::path file = dir.write("bad.toml", "[sweep]\nrealizations = 2\n[grid]\nsystem.radius = [0.2, -1]\n");
-  const auto o = run_ballagg(dir.path(), {"sweep", file.string(), "--out", (dir / "s").string()});
+  const auto o = run_ballagg({"sweep", file.string(), "--out", (dir / "s").string()}, dir.path());
   EXPECT_EQ(o.status, 2);
   EXPECT_EQ(o.err, fmt::format("ballagg: error: {}:4: system.radius = -1: must be a number > 0\n", file.string()));
   EXPECT_FALSE(fs::exists(dir / "s"));
@@ -284,8 +284,8 @@ TEST(SweepCli, BadSweepFileExitsWithStatus2AndOneLine) {
 TEST(AnalyzeCli, WritesTheTablesOfARun) {
   TempDir dir;
   const fs::path run = dir / "run";
-  ASSERT_EQ(run_ballagg(dir.path(), {"run", "-q", "--out", run.string(), "--set", "system.n=100"}).status, 0);
-  const auto o = run_ballagg(dir.path(), {"analyze", run.string()});
+  ASSERT_EQ(run_ballagg({"run", "-q", "--out", run.string(), "--set", "system.n=100"}, dir.path()).status, 0);
+  const auto o = run_ballagg({"analyze", run.string()}, dir.path());
   ASSERT_EQ(o.status, 0) << o.err;
   const auto a = read_json(run / "analysis.json");
   EXPECT_EQ(a["n_spheres"], 100);
@@ -295,25 +295,25 @@ TEST(AnalyzeCli, WritesTheTablesOfARun) {
   EXPECT_DOUBLE_EQ(a["all_spheres"]["contacts_with_self"].get<double>(), a["all_spheres"]["contacts"].get<double>() + 1.0 / 6);
   for (const char* f : {"clusters.csv", "mass_spectrum.csv", "box_counting.csv", "pair_distribution.csv", "mass_radius.csv"})
     EXPECT_TRUE(fs::exists(run / f)) << f;
-  EXPECT_EQ(read_file(run / "mass_spectrum.csv"), "size,clusters\n100,1\n");
+  EXPECT_EQ(slurp(run / "mass_spectrum.csv"), "size,clusters\n100,1\n");
   // Any state file in the format, with the configuration that gives its box.
-  const auto again = run_ballagg(dir.path(), {"analyze", "--state", (run / "final.csv").string(), "--config",
-                                              (run / "config.toml").string(), "--out", (dir / "other").string()});
+  const auto again = run_ballagg({"analyze", "--state", (run / "final.csv").string(), "--config",
+                                              (run / "config.toml").string(), "--out", (dir / "other").string()}, dir.path());
   ASSERT_EQ(again.status, 0) << again.err;
-  EXPECT_EQ(read_file(dir / "other" / "clusters.csv"), read_file(run / "clusters.csv"));
+  EXPECT_EQ(slurp(dir / "other" / "clusters.csv"), slurp(run / "clusters.csv"));
 }
 
 TEST(AnalyzeCli, StateOutsideTheConfiguredBoxIsBadInput) {
   TempDir dir;
   const fs::path run = dir / "run";
-  ASSERT_EQ(run_ballagg(dir.path(), {"run", "-q", "--out", run.string(), "--set", "system.n=100"}).status, 0);
+  ASSERT_EQ(run_ballagg({"run", "-q", "--out", run.string(), "--set", "system.n=100"}, dir.path()).status, 0);
   const fs::path small = dir.write("small.toml", "[system]\nbox_length = 2.0\n");
-  const auto o = run_ballagg(dir.path(), {"analyze", run.string(), "--config", small.string()});
+  const auto o = run_ballagg({"analyze", run.string(), "--config", small.string()}, dir.path());
   EXPECT_EQ(o.status, 2);
   EXPECT_CONTAINS(o.err, "centre outside the box [0, 2]");
   EXPECT_EQ(std::count(o.err.begin(), o.err.end(), '\n'), 1);
   EXPECT_FALSE(fs::exists(run / "analysis.json"));
-  const auto missing = run_ballagg(dir.path(), {"analyze", (dir / "nothing").string()});
+  const auto missing = run_ballagg({"analyze", (dir / "nothing").string()}, dir.path());
   EXPECT_EQ(missing.status, 2);
   EXPECT_CONTAINS(missing.err, "not a run directory");
 }
@@ -321,15 +321,15 @@ TEST(AnalyzeCli, StateOutsideTheConfiguredBoxIsBadInput) {
 TEST(PlotCli, DrawsTheFiguresOfASweep) {
   TempDir dir;
   run_tiny_sweep(dir / "sweep");
-  const auto o = run_ballagg(dir.path(), {"plot", (dir / "sweep").string()});
+  const auto o = run_ballagg({"plot", (dir / "sweep").string()}, dir.path());
   ASSERT_EQ(o.status, 0) << o.err;
   for (const char* f : {"wall_time.png", "contacts.png", "pair_distribution.png", "box_counting.png",
                         "fractal_dimension.png", "aspect_ratio.png", "orientation.png"}) {
     const fs::path png = dir / "sweep" / "figures" / f;
     ASSERT_TRUE(fs::exists(png)) << f;
-    EXPECT_EQ(read_file(png).substr(1, 3), "PNG") << f;
+    EXPECT_EQ(slurp(png).substr(1, 3), "PNG") << f;
   }
-  const auto bad = run_ballagg(dir.path(), {"plot", dir.path().string()});
+  const auto bad = run_ballagg({"plot", dir.path().string()}, dir.path());
   EXPECT_EQ(bad.status, 2);
   EXPECT_CONTAINS(bad.err, "sweep.csv: missing");
 }

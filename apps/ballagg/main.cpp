@@ -15,6 +15,7 @@
 #include "ballagg/version.hpp"
 #include "analyze_command.hpp"
 #include "plot_command.hpp"
+#include "render_command.hpp"
 #include "sweep_command.hpp"
 
 namespace {
@@ -61,6 +62,8 @@ int main(int argc, char** argv) {
   ballagg::cli::add_sweep_command(app, sweep);
   ballagg::cli::PlotCommand plot;
   ballagg::cli::add_plot_command(app, plot);
+  ballagg::cli::RenderArgs render_args;
+  CLI::App* render = ballagg::cli::add_render_command(app, render_args);
 
   try {
     app.parse(argc, argv);
@@ -72,8 +75,11 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     // CLI11 reports "a subcommand is required" for a misspelt command: name it instead.
-    if (!*run && !*show && !*analyze.command && !*sweep.command && !*plot.command && argc > 1 && argv[1][0] != '-') {
-      fmt::print(stderr, "ballagg: error: unknown command '{}' (commands: run, config, analyze, sweep, plot; see ballagg --help)\n",
+    if (!*run && !*show && !*analyze.command && !*sweep.command && !*plot.command && !*render && argc > 1 &&
+        argv[1][0] != '-') {
+      fmt::print(stderr,
+                 "ballagg: error: unknown command '{}' (commands: run, config, analyze, sweep, plot, render; see "
+                 "ballagg --help)\n",
                  argv[1]);
       return kBadInput;
     }
@@ -85,6 +91,7 @@ int main(int argc, char** argv) {
     if (*analyze.command) return ballagg::cli::run_analyze_command(analyze);
     if (*sweep.command) return ballagg::cli::run_sweep_command(sweep);
     if (*plot.command) return ballagg::cli::run_plot_command(plot);
+    if (*render) return ballagg::cli::run_render_command(render_args);
     if (*show) {
       const ballagg::Config c = ballagg::load_config(show_args.file, show_args.overrides);
       std::cout << ballagg::to_toml_text(c);

@@ -46,6 +46,11 @@ bool prepare_output_dir(const std::string& dir) {
   return !existed;
 }
 
+std::string temporary_path_for(const std::string& path) {
+  const fs::path p(path);
+  return (p.parent_path() / fmt::format(".{}.tmp", p.filename().string())).string();
+}
+
 void write_file_atomically(const std::string& dir, const std::string& name, const std::string& content) {
   const fs::path target = fs::path(dir) / name;
   const fs::path temporary = fs::path(dir) / ("." + name + ".tmp");

@@ -1,0 +1,49 @@
+#include "ballagg/io/run_directory.hpp"
+
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "ballagg/initial/initial_state.hpp"
+#include "ballagg/io/state_csv.hpp"
+#include "ballagg/io/text_file.hpp"
+
+namespace fs = std::filesystem;
+
+namespace ballagg {
+
+std::string RunDirectory::path(const std::string& name) const { return (fs::path(dir) / name).string(); }
+
+RunDirectory open_run_directory(const std::string& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec))
+    throw InputError(fmt::format("{}: not a run directory (no such directory; give the --out of a ballagg run)", dir));
+  RunDirectory run;
+  run.dir = dir;
+  if (!fs::is_regular_file(run.path("config.toml"), ec))
+    throw InputError(fmt::format("{}: not a run directory (no config.toml; give the --out of a ballagg run)", dir));
+  run.config = load_config(run.path("config.toml"), {});
+  const std::string summary_path = run.path("summary.json");
+  const std::string text = read_text_file(summary_path, "run summary");
+  const nlohmann::json summary = nlohmann::json::parse(text, nullptr, false);
+  if (summary.is_discarded() || !summary.contains("time") || !summary["time"].is_number())
+    throw InputError(fmt::format("{}: not a ballagg summary (no \"time\")", summary_path));
+  run.final_time = summary["time"].get<double>();
+  return run;
+}
+
+template <int D>
+void read_final_state(const RunDirectory& run, Frame<D>& frame, Particles<D>& particles) {
+  const Box<D> box{resolved_box_length(run.config), run.config.system.boundary};
+  // The state read back is at its own time 0: that is the run's final instant.
+  const State<D> state = assemble_state(box, read_state_csv<D>(run.path("final.csv")));
+  frame = capture_frame(state, 0.0, 0);
+  frame.time = run.final_time;
+  particles = particles_of(state);
+}
+
+template void read_final_state<2>(const RunDirectory&, Frame<2>&, Particles<2>&);
+template void read_final_state<3>(const RunDirectory&, Frame<3>&, Particles<3>&);
+
+}  // namespace ballagg
