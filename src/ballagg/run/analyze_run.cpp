@@ -9,7 +9,7 @@
 #include "ballagg/config/config.hpp"
 #include "ballagg/io/analysis_files.hpp"
 #include "ballagg/io/output_dir.hpp"
-#include "ballagg/io/state_csv.hpp"
+#include "ballagg/io/run_directory.hpp"
 
 namespace ballagg {
 namespace {
@@ -19,17 +19,7 @@ namespace fs = std::filesystem;
 template <int D>
 std::string analyze_in_dimension(const Config& config, const std::string& state_file, const std::string& out_dir) {
   const Box<D> box{resolved_box_length(config), config.system.boundary};
-  const SphereTable<D> spheres = read_state_csv<D>(state_file);
-  for (std::size_t i = 0; i < spheres.position.size(); ++i) {
-    for (int a = 0; a < D; ++a) {
-      const double x = spheres.position[i][a];
-      // Folded centres lie in [0, L); with walls a centre lies at least one radius inside.
-      if (x < 0.0 || x > box.length)
-        throw InputError(fmt::format("{}:{}: centre outside the box [0, {}] of {} (is this the right configuration?)",
-                                     state_file, spheres.line[i], box.length, config.source));
-    }
-  }
-  const AggregateAnalysis<D> analysis = analyze_aggregates(box, spheres);
+  const AggregateAnalysis<D> analysis = analyze_aggregates(box, read_state_in_box<D>(state_file, config));
   prepare_output_dir(out_dir);
   const std::map<std::string, std::string> files = analysis_files(analysis, state_file);
   for (const auto& [name, content] : files)
@@ -44,14 +34,19 @@ std::string analyze_in_dimension(const Config& config, const std::string& state_
 std::string analyze_run(const AnalyzeRequest& r) {
   if (r.run_dir.empty() && (r.state_file.empty() || r.config_file.empty()))
     throw InputError("analyze: give a run directory, or both --state and --config");
-  if (!r.run_dir.empty() && !fs::is_directory(r.run_dir))
-    throw InputError(fmt::format("{}: not a run directory (expected config.toml and final.csv in it)", r.run_dir));
-  const std::string config_file = !r.config_file.empty() ? r.config_file : (fs::path(r.run_dir) / "config.toml").string();
-  const std::string state_file = !r.state_file.empty() ? r.state_file : (fs::path(r.run_dir) / "final.csv").string();
+  Config config;
+  std::string state_file = r.state_file;
   fs::path out_dir = r.out_dir;
-  if (out_dir.empty()) out_dir = !r.run_dir.empty() ? fs::path(r.run_dir) : fs::path(state_file).parent_path();
-  if (out_dir.empty()) out_dir = fs::current_path();
-  const Config config = load_config(config_file, {});
+  if (!r.run_dir.empty()) {
+    const RunDirectory run = open_run_directory(r.run_dir);
+    config = r.config_file.empty() ? run.config : load_config(r.config_file, {});
+    if (state_file.empty()) state_file = run.path("final.csv");
+    if (out_dir.empty()) out_dir = run.dir;
+  } else {
+    config = load_config(r.config_file, {});
+    if (out_dir.empty()) out_dir = fs::path(state_file).parent_path();
+    if (out_dir.empty()) out_dir = fs::current_path();
+  }
   if (config.system.dimension == 2) return analyze_in_dimension<2>(config, state_file, out_dir.string());
   return analyze_in_dimension<3>(config, state_file, out_dir.string());
 }

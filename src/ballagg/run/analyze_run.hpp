@@ -6,7 +6,7 @@
 namespace ballagg {
 
 struct AnalyzeRequest {
-  std::string run_dir;     // a run directory: config.toml and final.csv are read from it
+  std::string run_dir;     // a finished run's directory (io/run_directory.hpp): its config.toml and final.csv
   std::string state_file;  // default: RUN_DIR/final.csv
   std::string config_file; // default: RUN_DIR/config.toml
   std::string out_dir;     // default: RUN_DIR, or the state file's directory
