@@ -62,10 +62,10 @@ AggregateAnalysis<D> analyze_aggregates(const Box<D>& box, const SphereTable<D>&
   a.contacts = relative_contacts<D>(all_contacts, a.n_spheres);
   a.box_counting = box_counting(box, t.position, a.length_unit);
 
+  a.largest = kth_largest_cluster(partition.label, 1);
   const int m = partition.n_clusters();
   a.clusters.resize(m);
   for (int c = 0; c < m; ++c) {
-    if (partition.size(c) > partition.size(a.largest)) a.largest = c;
     const std::span<const std::int32_t> members = partition.members_of(c);
     ClusterSummary<D>& s = a.clusters[c];
     s.size = partition.size(c);

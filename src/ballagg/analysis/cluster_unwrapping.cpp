@@ -3,35 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <unordered_map>
 
 #include "ballagg/spatial/sorted_cell_list.hpp"
 
 namespace ballagg {
-
-ClusterPartition partition_clusters(const std::vector<std::int64_t>& labels, int n) {
-  ClusterPartition p;
-  p.label.resize(n);
-  std::unordered_map<std::int64_t, std::int32_t> dense;
-  std::int32_t next = 0;
-  for (int i = 0; i < n; ++i) {
-    if (labels.empty()) {
-      p.label[i] = next++;
-      continue;
-    }
-    const auto [it, fresh] = dense.emplace(labels[i], next);
-    if (fresh) ++next;
-    p.label[i] = it->second;
-  }
-  // Counting sort by label: members ascending within each cluster.
-  p.start.assign(next + 1, 0);
-  for (int i = 0; i < n; ++i) ++p.start[p.label[i] + 1];
-  for (int c = 0; c < next; ++c) p.start[c + 1] += p.start[c];
-  p.members.resize(n);
-  std::vector<std::int32_t> fill(p.start.begin(), p.start.end() - 1);
-  for (int i = 0; i < n; ++i) p.members[fill[p.label[i]]++] = i;
-  return p;
-}
 
 template <int D>
 UnwrappedClusters<D> unwrap_clusters(const Box<D>& box, const std::vector<Vec<D>>& x,

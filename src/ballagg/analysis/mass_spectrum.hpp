@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "ballagg/analysis/cluster_unwrapping.hpp"
+#include "ballagg/analysis/cluster_partition.hpp"
 
 namespace ballagg {
 

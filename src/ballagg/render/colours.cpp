@@ -25,18 +25,6 @@ const std::array<Rgb, kPaletteSize + 1> kClusterColours{{
     {0.110, 0.310, 0.380},  // dark teal
 }};
 
-int kth_largest_cluster(const std::vector<std::int32_t>& labels, int k) {
-  if (labels.empty() || k < 1) return -1;
-  const int n_labels = *std::max_element(labels.begin(), labels.end()) + 1;
-  if (k > n_labels) return -1;
-  std::vector<int> size(n_labels, 0);
-  for (std::int32_t l : labels) ++size[l];
-  std::vector<int> order(n_labels);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return size[a] > size[b]; });
-  return order[k - 1];
-}
-
 namespace {
 
 // A well-mixed 32-bit hash (the finaliser of MurmurHash3), so that neighbouring ids get

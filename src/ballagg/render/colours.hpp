@@ -30,8 +30,4 @@ inline constexpr double kNeighbourGap = 1.0;
 template <int D>
 std::vector<std::uint8_t> cluster_colours(const Frame<D>& frame, const Particles<D>& particles, int largest_label);
 
-// The label of the cluster with the most spheres (the lowest label on a tie), and of the
-// k-th largest (k = 1: the largest). Returns -1 when there are fewer than k clusters.
-int kth_largest_cluster(const std::vector<std::int32_t>& labels, int k);
-
 }  // namespace ballagg

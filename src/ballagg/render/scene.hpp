@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "ballagg/analysis/cluster_partition.hpp"
 #include "ballagg/io/frame.hpp"
 #include "ballagg/render/colours.hpp"
 
