@@ -148,9 +148,7 @@ struct H5mdWriter<D>::Impl {
       std::filesystem::remove(temporary, ec);
       throw std::runtime_error(fmt::format("{}: cannot write (disk full?)", target.string()));
     }
-    std::error_code ec;
-    std::filesystem::rename(temporary, target, ec);
-    if (ec) throw std::runtime_error(fmt::format("{}: cannot write: {}", target.string(), ec.message()));
+    rename_into_place(temporary.string(), target.string());
   }
 };
 

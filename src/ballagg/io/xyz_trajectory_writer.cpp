@@ -41,9 +41,7 @@ template <int D>
 void XyzTrajectoryWriter<D>::finish() {
   out_.close();
   if (!out_) throw std::runtime_error(fmt::format("{}: cannot write (disk full?)", target_));
-  std::error_code ec;
-  fs::rename(temporary_, target_, ec);
-  if (ec) throw std::runtime_error(fmt::format("{}: cannot write: {}", target_, ec.message()));
+  rename_into_place(temporary_, target_);
   finished_ = true;
 }
 

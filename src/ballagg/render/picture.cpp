@@ -30,17 +30,14 @@ Caption caption_of(const Scene<D>& s) {
   return c;
 }
 
-void finish_file(cairo_surface_t* surface, const std::string& temporary, const std::string& path) {
-  cairo_surface_finish(surface);
-  const cairo_status_t status = cairo_surface_status(surface);
-  cairo_surface_destroy(surface);
+// Renames a picture written to `temporary` into place, or removes it if cairo failed.
+void commit_file(cairo_status_t status, const std::string& temporary, const std::string& path) {
   std::error_code ec;
   if (status != CAIRO_STATUS_SUCCESS) {
     std::filesystem::remove(temporary, ec);
     throw std::runtime_error(fmt::format("{}: cannot write: {}", path, cairo_status_to_string(status)));
   }
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) throw std::runtime_error(fmt::format("{}: cannot write: {}", path, ec.message()));
+  rename_into_place(temporary, path);
 }
 
 }  // namespace
@@ -76,13 +73,7 @@ void write_png(const Scene<D>& s, const PictureOptions& o, const std::string& pa
   const std::string temporary = temporary_path_for(path);
   const cairo_status_t status = cairo_surface_write_to_png(surface, temporary.c_str());
   cairo_surface_destroy(surface);
-  std::error_code ec;
-  if (status != CAIRO_STATUS_SUCCESS) {
-    std::filesystem::remove(temporary, ec);
-    throw std::runtime_error(fmt::format("{}: cannot write: {}", path, cairo_status_to_string(status)));
-  }
-  std::filesystem::rename(temporary, path, ec);
-  if (ec) throw std::runtime_error(fmt::format("{}: cannot write: {}", path, ec.message()));
+  commit_file(status, temporary, path);
 }
 
 template <int D>
@@ -93,7 +84,10 @@ void write_svg(const Scene<D>& s, const PictureOptions& o, const std::string& pa
   cairo_t* cr = cairo_create(surface);
   draw_picture(cr, s, l, o);
   cairo_destroy(cr);
-  finish_file(surface, temporary, path);
+  cairo_surface_finish(surface);  // the SVG file is complete only now
+  const cairo_status_t status = cairo_surface_status(surface);
+  cairo_surface_destroy(surface);
+  commit_file(status, temporary, path);
 }
 
 template void draw_picture<2>(cairo_t*, const Scene<2>&, const Layout&, const PictureOptions&);

@@ -113,8 +113,7 @@ void FfmpegVideo::finish() {
     std::filesystem::remove(temporary_, ec);
     throw std::runtime_error(fmt::format("{}: ffmpeg failed: {}", path_, why));
   }
-  std::filesystem::rename(temporary_, path_, ec);
-  if (ec) throw std::runtime_error(fmt::format("{}: cannot write: {}", path_, ec.message()));
+  rename_into_place(temporary_, path_);
 }
 
 }  // namespace ballagg
