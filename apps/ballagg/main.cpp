@@ -5,6 +5,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -62,8 +63,8 @@ int main(int argc, char** argv) {
   ballagg::cli::add_sweep_command(app, sweep);
   ballagg::cli::PlotCommand plot;
   ballagg::cli::add_plot_command(app, plot);
-  ballagg::cli::RenderArgs render_args;
-  CLI::App* render = ballagg::cli::add_render_command(app, render_args);
+  ballagg::cli::RenderCommand render;
+  ballagg::cli::add_render_command(app, render);
 
   try {
     app.parse(argc, argv);
@@ -74,13 +75,13 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    // CLI11 reports "a subcommand is required" for a misspelt command: name it instead.
-    if (!*run && !*show && !*analyze.command && !*sweep.command && !*plot.command && !*render && argc > 1 &&
-        argv[1][0] != '-') {
-      fmt::print(stderr,
-                 "ballagg: error: unknown command '{}' (commands: run, config, analyze, sweep, plot, render; see "
-                 "ballagg --help)\n",
-                 argv[1]);
+    // CLI11 reports "a subcommand is required" for a misspelt command: name it, and list
+    // every registered command.
+    if (app.get_subcommands().empty() && argc > 1 && argv[1][0] != '-') {
+      std::string commands;
+      for (const CLI::App* c : std::as_const(app).get_subcommands({}))
+        commands += (commands.empty() ? "" : ", ") + c->get_name();
+      fmt::print(stderr, "ballagg: error: unknown command '{}' (commands: {}; see ballagg --help)\n", argv[1], commands);
       return kBadInput;
     }
     fmt::print(stderr, "ballagg: error: {} (see ballagg --help)\n", e.what());
@@ -91,7 +92,7 @@ int main(int argc, char** argv) {
     if (*analyze.command) return ballagg::cli::run_analyze_command(analyze);
     if (*sweep.command) return ballagg::cli::run_sweep_command(sweep);
     if (*plot.command) return ballagg::cli::run_plot_command(plot);
-    if (*render) return ballagg::cli::run_render_command(render_args);
+    if (*render.command) return ballagg::cli::run_render_command(render);
     if (*show) {
       const ballagg::Config c = ballagg::load_config(show_args.file, show_args.overrides);
       std::cout << ballagg::to_toml_text(c);

@@ -19,8 +19,9 @@ namespace fs = std::filesystem;
 
 namespace ballagg::cli {
 
-CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
-  CLI::App* cmd = app.add_subcommand(
+void add_render_command(CLI::App& app, RenderCommand& render) {
+  RenderArgs& a = render.args;
+  CLI::App* cmd = render.command = app.add_subcommand(
       "render", "Draw a run: PNG/SVG pictures (2D discs, 3D shaded spheres), a POV-Ray scene, a video");
   cmd->add_option("run_dir", a.run_dir, "Directory of a finished run (the --out of ballagg run)")->required();
   cmd->add_option("--frame", a.frame, "Draw frame K of trajectory.h5md (0 = the initial state; default: final.csv)")
@@ -45,7 +46,6 @@ CLI::App* add_render_command(CLI::App& app, RenderArgs& a) {
       ->delimiter(',')
       ->expected(3)
       ->type_name("X,Y,Z");
-  return cmd;
 }
 
 namespace {
@@ -147,7 +147,8 @@ int render(const RenderArgs& a, const RunDirectory& run) {
 
 }  // namespace
 
-int run_render_command(const RenderArgs& a) {
+int run_render_command(const RenderCommand& command) {
+  const RenderArgs& a = command.args;
   if (a.width < kMinPictureWidth || a.width > kMaxPictureWidth)
     throw InputError(fmt::format("--width {}: must be from {} to {} pixels", a.width, kMinPictureWidth, kMaxPictureWidth));
   if (!(a.fps > 0.0 && a.fps <= 240.0)) throw InputError(fmt::format("--fps {}: must be a number in (0, 240]", a.fps));

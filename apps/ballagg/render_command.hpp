@@ -18,9 +18,13 @@ struct RenderArgs {
   std::vector<double> view, light;
 };
 
-CLI::App* add_render_command(CLI::App& app, RenderArgs& args);
+struct RenderCommand {
+  CLI::App* command = nullptr;
+  RenderArgs args;
+};
 
+void add_render_command(CLI::App& app, RenderCommand& render);
 // Throws InputError for bad arguments or unreadable run files; returns the exit status.
-int run_render_command(const RenderArgs& args);
+int run_render_command(const RenderCommand& command);
 
 }  // namespace ballagg::cli
