@@ -104,7 +104,12 @@ def save(fig, out, name, legend_outside=False):
     else:
         fig.tight_layout()
     path = os.path.join(out, name)
-    fig.savefig(path, dpi=DPI)
+    temporary = os.path.join(out, f".{name}.tmp")  # renamed when complete: no half-written figure
+    try:
+        fig.savefig(temporary, dpi=DPI, format="png")
+        os.replace(temporary, path)
+    except OSError as e:
+        fail(f"{path}: cannot write: {e.strerror}")
     plt.close(fig)
     print(f"plot: {path}")
 
@@ -272,7 +277,14 @@ def main(argv):
     if not rows:
         fail(f"{', '.join(args)}: no finished run to plot (sweep.csv)")
     out = out or os.path.join(args[0], "figures")
-    os.makedirs(out, exist_ok=True)
+    if os.path.exists(out) and not os.path.isdir(out):
+        fail(f"--out {out}: exists and is not a directory")
+    try:
+        os.makedirs(out, exist_ok=True)
+    except OSError as e:
+        fail(f"--out {out}: cannot create the directory: {e.strerror}")
+    if not os.access(out, os.W_OK):
+        fail(f"--out {out}: cannot write in the directory")
     fig_wall_time(rows, out)
     fig_against_n(rows, out, "contacts", "N_c (4.5), pairs i != j", "contacts.png")
     fig_against_n(rows, out, "contacts_with_self", "N_c (4.5) with i = j", "contacts_with_self.png", (0.5, "paper: ~0.5"))

@@ -332,6 +332,12 @@ TEST(PlotCli, DrawsTheFiguresOfASweep) {
   const auto bad = run_ballagg({"plot", dir.path().string()}, dir.path());
   EXPECT_EQ(bad.status, 2);
   EXPECT_CONTAINS(bad.err, "sweep.csv: missing");
+  // An --out that cannot be a directory: one line, status 2, no figure drawn.
+  const fs::path file = dir.write("figures.txt", "not a directory\n");
+  const auto not_a_dir = run_ballagg({"plot", (dir / "sweep").string(), "--out", file.string()}, dir.path());
+  EXPECT_EQ(not_a_dir.status, 2);
+  EXPECT_EQ(not_a_dir.err, fmt::format("ballagg plot: error: --out {}: exists and is not a directory\n", file.string()));
+  EXPECT_EQ(not_a_dir.out, "");
 }
 
 TEST(SweepFile, CommittedSweepFilesAreValid) {
