@@ -7,10 +7,12 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
+#include <hdf5.h>
 
 #include "ballagg/engines/time_stepping/time_stepping_engine.hpp"
 #include "ballagg/io/h5md_reader.hpp"
@@ -216,6 +218,32 @@ TEST(H5md, AnUnfinishedWriterLeavesNothing) {
     writer.write(capture_frame(s, 0.0, 0));
   }
   EXPECT_TRUE(fs::is_empty(dir.path()));
+}
+
+TEST(H5md, AnErrorOnTheWriterThreadIsAnExceptionNotALibraryTrace) {
+  // Frames are written on BackgroundWriter's thread, and HDF5 keeps its error printing
+  // switch per thread: a failure there must still reach the user as one line of ours.
+  const TempDir dir;
+  const State<2> s = make_initial_state<2>(small_config(2, 10, 0.1, Boundary::walls, 1));
+  H5mdWriter<2> writer((dir / "t.h5md").string(), particles_of(s), "");
+  const Frame<2> frame = capture_frame(s, 0.0, 0);
+  // Close the writer's datasets behind its back, so that the next write fails inside HDF5.
+  std::vector<hid_t> datasets(H5Fget_obj_count(H5F_OBJ_ALL, H5F_OBJ_DATASET));
+  H5Fget_obj_ids(H5F_OBJ_ALL, H5F_OBJ_DATASET, datasets.size(), datasets.data());
+  ASSERT_FALSE(datasets.empty());
+  for (hid_t d : datasets) H5Dclose(d);
+  ::testing::internal::CaptureStderr();
+  bool threw = false;
+  std::thread([&] {
+    try {
+      writer.write(frame);
+    } catch (const std::runtime_error&) {
+      threw = true;
+    }
+  }).join();
+  const std::string printed = ::testing::internal::GetCapturedStderr();
+  EXPECT_TRUE(threw);
+  EXPECT_EQ(printed, "");
 }
 
 TEST(H5md, ReaderRejectsWhatIsNotATrajectory) {

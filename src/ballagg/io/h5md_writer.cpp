@@ -159,13 +159,18 @@ H5mdWriter<D>::H5mdWriter(const std::string& path, const Particles<D>& particles
 template <int D>
 H5mdWriter<D>::~H5mdWriter() = default;
 
+// HDF5 (built thread-safe in Debian) keeps its error printing switch per thread, and
+// frames are written on BackgroundWriter's thread: each call silences it on its own thread,
+// so that a failure reaches the user as our one-line exception, not the library's trace.
 template <int D>
 void H5mdWriter<D>::write(const Frame<D>& frame) {
+  hdf5::quiet_errors();
   impl_->write(frame);
 }
 
 template <int D>
 void H5mdWriter<D>::finish() {
+  hdf5::quiet_errors();
   impl_->finish();
 }
 

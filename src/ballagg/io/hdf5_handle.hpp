@@ -48,7 +48,8 @@ class Handle {
   Closer close_ = nullptr;
 };
 
-// Silences the library's own error printing (we throw instead); call before any other.
+// Silences the library's own error printing (we throw instead) on the calling thread;
+// call before any other call on that thread.
 void quiet_errors();
 
 // Throws std::runtime_error("what: HDF5 error") when status < 0; returns status.
