@@ -347,6 +347,7 @@ TEST_F(RenderCli, BadArgumentsAreOneLineErrors) {
   expect_bad_input({r2, "--pov", out("x.pov").string()}, "POV-Ray scenes are for 3D runs");
   expect_bad_input({r2, "--view", "1,0,0"}, "--view: only for 3D runs");
   expect_bad_input({r2, "--width", "20"}, "--width 20: must be from 64");
+  expect_bad_input({r3, "--width", "5000"}, "--width 5000: 3D pictures must be from 64 to 4096 pixels");
   expect_bad_input({r2, "--fps", "0"}, "--fps 0");
   expect_bad_input({r2, "--frame", "1", "--video", out("v.mp4").string()}, "--frame and --video");
   expect_bad_input({r3, "--aggregate", "99", "--png", out("x.png").string()}, "--aggregate 99: there are only");

@@ -33,7 +33,7 @@ void add_render_command(CLI::App& app, RenderCommand& render) {
       ->type_name("FILE");
   cmd->add_option("--video", a.video, "Write an MP4 video, one frame per snapshot of trajectory.h5md (uses ffmpeg)")
       ->type_name("FILE.mp4");
-  cmd->add_option("--width", a.width, "Picture or video width in pixels (64 to 16384; default 1200)")->type_name("PIXELS");
+  cmd->add_option("--width", a.width, "Picture or video width in pixels (64 to 16384, 3D: to 4096; default 1200)")->type_name("PIXELS");
   cmd->add_option("--fps", a.fps, "Video frames per second (default 10)")->type_name("RATE");
   cmd->add_option("--aggregate", a.aggregate,
                   "Draw only the K-th largest cluster (1 = the largest), in one piece across periodic faces")
@@ -163,6 +163,9 @@ int run_render_command(const RenderCommand& command) {
   check_extension("--video", a.video, ".mp4");
   const RunDirectory run = open_run_directory(a.run_dir);
   const int dimension = run.config.system.dimension;
+  if (dimension == 3 && a.width > kMaxSpherePictureWidth)
+    throw InputError(fmt::format("--width {}: 3D pictures must be from {} to {} pixels (the depth buffer of a wider one "
+                                 "would not fit in memory)", a.width, kMinPictureWidth, kMaxSpherePictureWidth));
   if (dimension == 2) {
     if (!a.pov.empty()) throw InputError(fmt::format("--pov: POV-Ray scenes are for 3D runs ({} is 2D)", a.run_dir));
     if (!a.view.empty()) throw InputError(fmt::format("--view: only for 3D runs ({} is 2D)", a.run_dir));
