@@ -222,7 +222,6 @@ std::vector<SweepRun> sweep_runs(const SweepSpec& spec, const std::vector<SweepP
     for (const SweepSetting& s : p.variant->settings) settings.push_back(&s);
     for (const SweepSetting* s : p.values) settings.push_back(s);
     std::vector<std::string> overrides;
-    std::uint64_t first_seed = spec.seed_base.value_or(base.initial.seed);
     for (const SweepSetting* s : settings) overrides.push_back(s->key + "=" + s->value);
     std::string described;
     for (const SweepSetting* s : settings) described += (described.empty() ? "" : ", ") + s->key + " = " + s->value;
@@ -243,10 +242,12 @@ std::vector<SweepRun> sweep_runs(const SweepSpec& spec, const std::vector<SweepP
       }
       r.fail(0, fmt::format("grid point {} ({}): {}", p.index, described.empty() ? "the base" : described, message));
     }
-    first_seed = point_config.initial.seed;
+    // A seed in the grid starts the point's realizations; otherwise [sweep] seed_base does,
+    // or the base configuration's initial.seed.
     const bool seed_in_grid =
         std::any_of(settings.begin(), settings.end(), [](const SweepSetting* s) { return s->key == "initial.seed"; });
-    if (!seed_in_grid) first_seed = spec.seed_base.value_or(base.initial.seed);
+    const std::uint64_t first_seed =
+        seed_in_grid ? point_config.initial.seed : spec.seed_base.value_or(base.initial.seed);
     if (first_seed > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max()) - spec.realizations)
       r.fail(0, fmt::format("seed {} + {} realizations: seeds must stay below 2^63", first_seed, spec.realizations));
     for (int k = 0; k < spec.realizations; ++k) {
