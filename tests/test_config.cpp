@@ -533,6 +533,9 @@ TEST(Config, OutOfRangeValuesAreRejectedForEveryKeyWithARange) {
       {"ts", "eps_c", "1", "(0, 1)"},
       {"ts", "max_iterations", "0", "from 1 to 100000000"},
       {"ts", "max_link_rounds", "0", "from 1 to 1000000"},
+      {"ts", "bond_stretch", "0", "(0, 1]"},
+      {"ts", "bond_stretch", "1.5", "(0, 1]"},
+      {"ts", "stall_iterations", "-1", "from 0 (off) to 100000000"},
   };
   for (const Case& c : cases) {
     const std::string m = error_of("[" + c.section + "]\n" + c.key + " = " + c.value + "\n");
@@ -600,7 +603,8 @@ TEST(Config, FilePositionsWithoutFileAreRejected) {
 
 TEST(Config, TsSectionIsReadAndWrittenBack) {
   const Config c = parse_config_text("[engine]\nkind = \"ts\"\n[ts]\nmodel = \"non-rigid\"\ndt_factor = 0.005\n"
-                                     "dt_rule = \"adaptive\"\neps_c = 1e-4\nmax_iterations = 500\n",
+                                     "dt_rule = \"adaptive\"\neps_c = 1e-4\nmax_iterations = 500\n"
+                                     "bond_stretch = 0.25\nstall_iterations = 400\n",
                                      "t");
   EXPECT_EQ(c.engine.kind, ballagg::EngineKind::ts);
   EXPECT_EQ(c.ts.model, ballagg::TsModel::non_rigid);
@@ -608,6 +612,8 @@ TEST(Config, TsSectionIsReadAndWrittenBack) {
   EXPECT_DOUBLE_EQ(c.ts.dt_factor, 0.005);
   EXPECT_DOUBLE_EQ(c.ts.daha.eps_c, 1e-4);
   EXPECT_EQ(c.ts.daha.max_iterations, 500);
+  EXPECT_DOUBLE_EQ(c.ts.bond_stretch, 0.25);
+  EXPECT_EQ(c.ts.daha.stall_iterations, 400);
   const Config back = parse_config_text(ballagg::to_toml_text(c), "back");
   EXPECT_EQ(ballagg::to_toml_text(back), ballagg::to_toml_text(c));
   EXPECT_CONTAINS(ballagg::to_toml_text(c), "[ts]\nmodel = \"non-rigid\"");

@@ -6,13 +6,74 @@
 
 #include <gtest/gtest.h>
 
+#include "support.hpp"
+
 #include "ballagg/core/pair_index.hpp"
 #include "ballagg/engines/time_stepping/adhesive_set.hpp"
 #include "ballagg/engines/time_stepping/daha.hpp"
+#include "ballagg/engines/time_stepping/near_pairs.hpp"
 #include "ballagg/engines/time_stepping/step_bodies.hpp"
 
 namespace ballagg {
 namespace {
+
+// The near-pair list against a brute-force search over all pairs, while clusters move by
+// random amounts (some beyond the half skin, most not) and merge.
+template <int D>
+void near_pairs_find_every_contact(Boundary boundary) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double length = D == 2 ? 30.0 : 12.0;
+  std::vector<testing::Ball<D>> balls;
+  for (int k = 0; k < 400; ++k) {
+    testing::Ball<D> b;
+    for (int a = 0; a < D; ++a) b.x[a] = 1.0 + (length - 2.0) * unit(rng);
+    b.v.setZero();
+    b.radius = 0.3 + 0.2 * unit(rng);
+    bool free = true;
+    for (const auto& other : balls) free = free && (other.x - b.x).norm() > other.radius + b.radius;
+    if (free) balls.push_back(b);
+  }
+  State<D> s = testing::make_state<D>(length, boundary, balls);
+  SortedCellList<D> cells(s.box, 1.5 * 2.0 * s.max_radius(), s.n_spheres());
+  NearPairs<D> near(static_cast<int>(s.clusters.size()), cells.cell_size() - 2.0 * s.max_radius());
+  std::vector<Vec<D>> positions(s.n_spheres());
+  for (int step = 0; step < 60; ++step) {
+    for (int c : s.alive_clusters()) {
+      Vec<D> du;
+      for (int a = 0; a < D; ++a) du[a] = unit(rng) - 0.5;
+      du *= (unit(rng) < 0.1 ? 0.6 : 0.05) * cells.cell_size() / du.norm();
+      s.translate(c, du, 0.0);
+      near.travelled(c, du.norm());
+    }
+    for (int i = 0; i < s.n_spheres(); ++i) positions[i] = s.position(i, 0.0);
+    cells.build(positions);
+    const std::vector<SpherePair> found = near.contacts(s, positions, [&]() -> const SortedCellList<D>& { return cells; });
+    std::vector<std::pair<int, int>> expected, got;
+    for (int i = 0; i < s.n_spheres(); ++i)
+      for (int j = i + 1; j < s.n_spheres(); ++j) {
+        const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
+        if (s.spheres.cluster[i] != s.spheres.cluster[j] &&
+            s.box.separation(positions[i], positions[j]).norm() <= sigma)
+          expected.push_back({i, j});
+      }
+    for (const SpherePair& p : found) got.push_back({p.i, p.j});
+    ASSERT_EQ(got, expected) << "step " << step;
+    for (std::size_t k = 0; k < found.size(); k += 3) {  // some contacts merge their clusters
+      const int ci = s.spheres.cluster[found[k].i], cj = s.spheres.cluster[found[k].j];
+      if (ci != cj) near.merged(ci, cj, s.merge(found[k].i, found[k].j, 0.0));
+    }
+  }
+  EXPECT_GE(near.full_scans(), 1);
+  EXPECT_GE(near.partial_scans(), 10);
+  EXPECT_LT(s.n_clusters(), 380);
+}
+
+TEST(NearPairs, EveryContactIsFoundAsByABruteForceSearch) {
+  near_pairs_find_every_contact<2>(Boundary::walls);
+  near_pairs_find_every_contact<2>(Boundary::periodic);
+  near_pairs_find_every_contact<3>(Boundary::periodic);
+}
 
 TEST(PairIndex, FindsEveryPairInEitherOrderAndForgetsThemWhenCleared) {
   PairIndex index;
@@ -23,7 +84,9 @@ TEST(PairIndex, FindsEveryPairInEitherOrderAndForgetsThemWhenCleared) {
     if (i == j) continue;
     const auto [value, added] = index.insert(i, j, k);
     EXPECT_EQ(added, stored.insert({std::min(i, j), std::max(i, j)}).second);
-    if (!added) EXPECT_NE(value, k);
+    if (!added) {
+      EXPECT_NE(value, k);
+    }
   }
   EXPECT_EQ(index.size(), stored.size());
   for (const auto& [i, j] : stored) {

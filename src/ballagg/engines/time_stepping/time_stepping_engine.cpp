@@ -10,6 +10,7 @@
 #include "ballagg/engines/event_driven/event_loop.hpp"
 #include "ballagg/engines/time_stepping/adhesive_set.hpp"
 #include "ballagg/engines/time_stepping/minimisation_problem.hpp"
+#include "ballagg/engines/time_stepping/near_pairs.hpp"
 #include "ballagg/engines/time_stepping/retreat.hpp"
 #include "ballagg/engines/time_stepping/step_bodies.hpp"
 #include "ballagg/engines/time_stepping/time_step_rule.hpp"
@@ -53,6 +54,7 @@ class TimeSteppingEngine final : public Engine<D> {
   void advect(State<D>& s, double dt);
   void bin(const State<D>& s);
   void rebin();
+  const SortedCellList<D>& binned_cells();
   void detect_overlaps(const State<D>& s);
   void resolve(const State<D>& s);
   GroupSolution<D> repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
@@ -83,9 +85,11 @@ class TimeSteppingEngine final : public Engine<D> {
   std::optional<SortedCellList<D>> cells_;
   double cell_slack_ = 0.0;                  // how far a sphere may move before re-binning
   bool stale_cells_ = false;                 // some sphere moved farther than that
+  bool cells_binned_ = false;                // the cell list holds this step's positions
   AdhesiveSet S_;                            // the adhesive set of a round and its groups (of bodies)
   StepBodies bodies_;                        // the clusters of the step, joined by its links
   AdhesiveLinks links_;                      // per-sphere models: the links of the old clusters
+  NearPairs<D> near_;                        // pairs of spheres of different clusters that may touch
   PairIndex round_contacts_;                 // the pairs the solutions of a round leave touching
   std::vector<int> moved_in_step_;           // spheres moved by this step's minimisations
   double length_scale_ = 1.0, delta_w_ = 0.0, mean_mass_ = 1.0;
@@ -148,6 +152,7 @@ void TimeSteppingEngine<D>::prepare(const State<D>& s) {
   moved_since_binning_.assign(n, Vec<D>::Zero());
   cells_.emplace(s.box, (2.0 + kGridMargin) * s.max_radius(), n);
   cell_slack_ = cells_->cell_size() - 2.0 * s.max_radius();
+  near_ = NearPairs<D>(n_cluster_ids, cell_slack_);
   S_ = AdhesiveSet(n_cluster_ids);
   bodies_ = StepBodies(n_cluster_ids);
   if (!rigid()) links_ = AdhesiveLinks(n);
@@ -164,83 +169,40 @@ void TimeSteppingEngine<D>::advect(State<D>& s, double dt) {
     const Vec<D> start = s.origin(c, before);
     if (!s.box.periodic() && keep_inside_walls(s, c, s.time)) ++counters_.wall_bounces;
     flight_[c] = s.origin(c, s.time) - start;
+    near_.travelled(c, flight_[c].norm());
   }
 }
 
+// The positions of the step; the cell list follows when a stage needs it (a step in which
+// nothing comes near needs none).
 template <int D>
 void TimeSteppingEngine<D>::bin(const State<D>& s) {
   const int n = s.n_spheres();
 #pragma omp parallel for schedule(static)
   for (int i = 0; i < n; ++i) positions_[i] = s.position(i, s.time);
-  rebin();
+  cells_binned_ = false;
+}
+
+template <int D>
+const SortedCellList<D>& TimeSteppingEngine<D>::binned_cells() {
+  if (!cells_binned_) rebin();
+  return *cells_;
 }
 
 template <int D>
 void TimeSteppingEngine<D>::rebin() {
   cells_->build(positions_);
+  cells_binned_ = true;
   std::fill(moved_since_binning_.begin(), moved_since_binning_.end(), Vec<D>::Zero());
   stale_cells_ = false;
 }
 
 // Step 2a: S starts as the pairs of spheres of different clusters that overlap or touch
-// (phi >= 0) after the free flight.
+// (phi >= 0) after the free flight, found among the near pairs (near_pairs.hpp).
 template <int D>
 void TimeSteppingEngine<D>::detect_overlaps(const State<D>& s) {
-  const SortedCellList<D>& cells = *cells_;
-  const std::vector<std::int32_t>& order = cells.order();
-  const int n = static_cast<int>(order.size());
-  // Cluster ids in slot order, so that the scan below reads contiguous memory only.
-  std::vector<std::int32_t> cluster_of_slot(n);
-#pragma omp parallel for schedule(static)
-  for (int k = 0; k < n; ++k) cluster_of_slot[k] = s.spheres.cluster[order[k]];
-  const double reach2 = 4.0 * s.max_radius() * s.max_radius();  // exact test below when radii differ
-  std::vector<std::vector<SpherePair>> found(max_threads());
-  auto test = [&](std::int32_t k, std::int32_t m, std::vector<SpherePair>& out) {
-    if (cluster_of_slot[m] == cluster_of_slot[k]) return;
-    const double d2 = s.box.separation(cells.sorted_position(k), cells.sorted_position(m)).squaredNorm();
-    if (d2 > reach2) return;
-    const int i = order[k], j = order[m];
-    const double contact = s.spheres.radius[i] + s.spheres.radius[j];
-    if (d2 <= contact * contact) out.push_back({std::min(i, j), std::max(i, j), 0.0});
-  };
-  if (!cells.cell_pairs_are_distinct()) {  // tiny periodic box: per sphere, each pair once
-#pragma omp parallel for schedule(static)
-    for (int k = 0; k < n; ++k)
-      cells.for_each_slot_near(cells.sorted_position(k), [&](std::int32_t m) {
-        if (m > k) test(k, m, found[thread_index()]);
-      });
-  } else {
-    // Half stencil over cells. A cell whose spheres all belong to one cluster is skipped
-    // against itself and against another such cell of the same cluster: the inside of a
-    // big aggregate costs one comparison per cell pair.
-    const std::int64_t n_cells = cells.n_cells();
-    std::vector<std::int32_t> sole(n_cells, -1);  // per cell: its only cluster, or -1
-#pragma omp parallel for schedule(static)
-    for (std::int64_t c = 0; c < n_cells; ++c) {
-      const std::int32_t first = cells.first_slot(c), last = cells.first_slot(c + 1);
-      if (first == last) continue;
-      std::int32_t id = cluster_of_slot[first];
-      for (std::int32_t k = first + 1; k < last && id >= 0; ++k)
-        if (cluster_of_slot[k] != id) id = -1;
-      sole[c] = id;
-    }
-    const int chunks = 8 * max_threads();
-#pragma omp parallel for schedule(dynamic)
-    for (int chunk = 0; chunk < chunks; ++chunk) {
-      std::vector<SpherePair>& mine = found[thread_index()];
-      cells.for_each_cell_pair(n_cells * chunk / chunks, n_cells * (chunk + 1) / chunks,
-                               [&](std::int64_t a, std::int64_t b) {
-        if (sole[a] >= 0 && sole[a] == sole[b]) return;
-        const std::int32_t a_end = cells.first_slot(a + 1), b_end = cells.first_slot(b + 1);
-        for (std::int32_t k = cells.first_slot(a); k < a_end; ++k)
-          for (std::int32_t m = a == b ? k + 1 : cells.first_slot(b); m < b_end; ++m) test(k, m, mine);
-      });
-    }
-  }
-  std::vector<SpherePair> pairs;
-  for (const auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
-  std::sort(pairs.begin(), pairs.end(), pair_less);  // the same S whatever the number of threads
-  for (const SpherePair& p : pairs) S_.add(p.i, p.j, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
+  for (const SpherePair& p : near_.contacts(s, positions_, [this]() -> const SortedCellList<D>& { return binned_cells(); }))
+    S_.add(p.i, p.j, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
 }
 
 // Steps 2b-2e, the loop (3.1)-(3.2). Each round minimises every group of S (the bodies
@@ -251,6 +213,8 @@ void TimeSteppingEngine<D>::detect_overlaps(const State<D>& s) {
 // max_link_rounds bounds it.
 template <int D>
 void TimeSteppingEngine<D>::resolve(const State<D>& s) {
+  if (S_.empty()) return;
+  binned_cells();
   std::vector<int> moved;
   for (int round = 1;; ++round) {
     const std::vector<CollisionGroup> groups = S_.take_changed_groups();
@@ -437,6 +401,7 @@ int TimeSteppingEngine<D>::commit(State<D>& s) {
   for (std::size_t k = 0; k < moved_in_step_.size(); ++k) {
     const int i = moved_in_step_[k];
     const int c = s.spheres.cluster[i];
+    near_.shifted(c, step_shift_[i].norm());
     if (rigid()) {
       // Every sphere of a cluster has the same shift: one translation.
       if (s.clusters[c].members.front() == i) s.translate(c, step_shift_[i], s.time);
@@ -450,12 +415,14 @@ int TimeSteppingEngine<D>::commit(State<D>& s) {
     sort_unique(clusters);
     for (int c : clusters) s.refresh_extent(c);
   }
+  near_.flush_shifts();
   int merges = 0;
   for (const SpherePair& p : bodies_.all_links()) {
     if (!rigid()) links_.add(p.i, p.j, p.lambda);
-    if (s.spheres.cluster[p.i] == s.spheres.cluster[p.j]) continue;
+    const int ci = s.spheres.cluster[p.i], cj = s.spheres.cluster[p.j];
+    if (ci == cj) continue;
     ++counters_.collisions;
-    s.merge(p.i, p.j, s.time);
+    near_.merged(ci, cj, s.merge(p.i, p.j, s.time));
     ++merges;
   }
   counters_.merges += merges;

@@ -1,0 +1,183 @@
+#include "ballagg/engines/time_stepping/near_pairs.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "ballagg/core/parallel.hpp"
+
+namespace ballagg {
+namespace {
+
+// Above this fraction of the spheres in stale clusters, the whole box is scanned (a half
+// stencil over cells, cheaper per sphere than a query per sphere).
+constexpr double kFullScanFraction = 0.25;
+// Stale spheres above which their queries run on several threads.
+constexpr std::size_t kParallelQueries = 4096;
+
+template <class Pair>
+bool pair_less(const Pair& a, const Pair& b) {
+  return a.i != b.i ? a.i < b.i : a.j < b.j;
+}
+template <class Pair>
+bool pair_equal(const Pair& a, const Pair& b) {
+  return a.i == b.i && a.j == b.j;
+}
+
+}  // namespace
+
+template <int D>
+NearPairs<D>::NearPairs(int n_cluster_ids, double skin)
+    : skin_(skin),
+      travel_(n_cluster_ids, std::numeric_limits<double>::infinity()),
+      step_shift_(n_cluster_ids, 0.0) {}
+
+template <int D>
+void NearPairs<D>::shifted(int c, double distance) {
+  if (step_shift_[c] == 0.0 && distance > 0.0) shifted_.push_back(c);
+  step_shift_[c] = std::max(step_shift_[c], distance);
+}
+
+template <int D>
+void NearPairs<D>::flush_shifts() {
+  for (std::int32_t c : shifted_) {
+    travel_[c] += step_shift_[c];
+    step_shift_[c] = 0.0;
+  }
+  shifted_.clear();
+}
+
+template <int D>
+void NearPairs<D>::merged(int a, int b, int into) {
+  travel_[into] = std::max(travel_[a], travel_[b]);
+}
+
+template <int D>
+std::vector<SpherePair> NearPairs<D>::contacts(const State<D>& s, const std::vector<Vec<D>>& positions,
+                                               const std::function<const SortedCellList<D>&()>& cells) {
+  std::vector<int> stale_spheres;
+  bool never_listed = false;
+  for (int c : s.alive_clusters()) {
+    if (!stale(c)) continue;
+    never_listed = never_listed || travel_[c] == std::numeric_limits<double>::infinity();
+    const auto& members = s.clusters[c].members;
+    stale_spheres.insert(stale_spheres.end(), members.begin(), members.end());
+  }
+  if (never_listed || static_cast<double>(stale_spheres.size()) > kFullScanFraction * s.n_spheres()) {
+    scan_all(s, cells());
+    ++full_scans_;
+  } else if (!stale_spheres.empty()) {
+    refresh(s, cells(), positions, stale_spheres);
+    ++partial_scans_;
+  }
+  // Test the listed pairs; those now inside one cluster (merged) are dropped for good.
+  std::vector<SpherePair> touching;
+  std::size_t kept = 0;
+  for (const Pair& p : pairs_) {
+    if (s.spheres.cluster[p.i] == s.spheres.cluster[p.j]) continue;
+    pairs_[kept++] = p;
+    const double contact = s.spheres.radius[p.i] + s.spheres.radius[p.j];
+    if (s.box.separation(positions[p.i], positions[p.j]).squaredNorm() <= contact * contact)
+      touching.push_back({p.i, p.j, 0.0});
+  }
+  pairs_.resize(kept);
+  return touching;
+}
+
+template <int D>
+void NearPairs<D>::scan_all(const State<D>& s, const SortedCellList<D>& cells) {
+  const std::vector<std::int32_t>& order = cells.order();
+  const int n = static_cast<int>(order.size());
+  // Cluster ids in slot order, so that the scan below reads contiguous memory only.
+  std::vector<std::int32_t> cluster_of_slot(n);
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < n; ++k) cluster_of_slot[k] = s.spheres.cluster[order[k]];
+  const double reach = 2.0 * s.max_radius() + skin_;  // exact test below when radii differ
+  std::vector<std::vector<Pair>> found(max_threads());
+  // The cell list holds the spheres at `positions`, in slot order: contiguous reads.
+  auto test = [&](std::int32_t k, std::int32_t m, std::vector<Pair>& out) {
+    if (cluster_of_slot[m] == cluster_of_slot[k]) return;
+    const double d2 = s.box.separation(cells.sorted_position(k), cells.sorted_position(m)).squaredNorm();
+    if (d2 > reach * reach) return;
+    const int i = order[k], j = order[m];
+    const double near = s.spheres.radius[i] + s.spheres.radius[j] + skin_;
+    if (d2 <= near * near) out.push_back({std::min(i, j), std::max(i, j)});
+  };
+  if (!cells.cell_pairs_are_distinct()) {  // tiny periodic box: per sphere, each pair once
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < n; ++k)
+      cells.for_each_slot_near(cells.sorted_position(k), [&](std::int32_t m) {
+        if (m > k) test(k, m, found[thread_index()]);
+      });
+  } else {
+    // Half stencil over cells. A cell whose spheres all belong to one cluster is skipped
+    // against itself and against another such cell of the same cluster: the inside of a
+    // big aggregate costs one comparison per cell pair.
+    const std::int64_t n_cells = cells.n_cells();
+    std::vector<std::int32_t> sole(n_cells, -1);  // per cell: its only cluster, or -1
+#pragma omp parallel for schedule(static)
+    for (std::int64_t c = 0; c < n_cells; ++c) {
+      const std::int32_t first = cells.first_slot(c), last = cells.first_slot(c + 1);
+      if (first == last) continue;
+      std::int32_t id = cluster_of_slot[first];
+      for (std::int32_t k = first + 1; k < last && id >= 0; ++k)
+        if (cluster_of_slot[k] != id) id = -1;
+      sole[c] = id;
+    }
+    const int chunks = 8 * max_threads();
+#pragma omp parallel for schedule(dynamic)
+    for (int chunk = 0; chunk < chunks; ++chunk) {
+      std::vector<Pair>& mine = found[thread_index()];
+      cells.for_each_cell_pair(n_cells * chunk / chunks, n_cells * (chunk + 1) / chunks,
+                               [&](std::int64_t a, std::int64_t b) {
+        if (sole[a] >= 0 && sole[a] == sole[b]) return;
+        const std::int32_t a_end = cells.first_slot(a + 1), b_end = cells.first_slot(b + 1);
+        for (std::int32_t k = cells.first_slot(a); k < a_end; ++k)
+          for (std::int32_t m = a == b ? k + 1 : cells.first_slot(b); m < b_end; ++m) test(k, m, mine);
+      });
+    }
+  }
+  pairs_.clear();
+  for (const auto& f : found) pairs_.insert(pairs_.end(), f.begin(), f.end());
+  std::sort(pairs_.begin(), pairs_.end(), pair_less<Pair>);  // whatever the number of threads
+  pairs_.erase(std::unique(pairs_.begin(), pairs_.end(), pair_equal<Pair>), pairs_.end());
+  std::fill(travel_.begin(), travel_.end(), 0.0);
+}
+
+template <int D>
+void NearPairs<D>::refresh(const State<D>& s, const SortedCellList<D>& cells, const std::vector<Vec<D>>& positions,
+                           const std::vector<int>& stale_spheres) {
+  std::vector<char> is_stale(travel_.size(), 0);
+  for (int i : stale_spheres) is_stale[s.spheres.cluster[i]] = 1;
+  std::erase_if(pairs_, [&](const Pair& p) {
+    return is_stale[s.spheres.cluster[p.i]] || is_stale[s.spheres.cluster[p.j]];
+  });
+  std::vector<std::vector<Pair>> found(max_threads());
+  const std::int64_t n = static_cast<std::int64_t>(stale_spheres.size());
+#pragma omp parallel for schedule(dynamic, 256) if (stale_spheres.size() >= kParallelQueries)
+  for (std::int64_t k = 0; k < n; ++k) {
+    const int i = stale_spheres[k];
+    const int ci = s.spheres.cluster[i];
+    std::vector<Pair>& mine = found[thread_index()];
+    cells.for_each_near(positions[i], [&](int j) {
+      const int cj = s.spheres.cluster[j];
+      if (cj == ci || (is_stale[cj] && j < i)) return;  // a pair of two stale spheres once
+      const double near = s.spheres.radius[i] + s.spheres.radius[j] + skin_;
+      if (s.box.separation(positions[i], positions[j]).squaredNorm() <= near * near)
+        mine.push_back({std::min(i, j), std::max(i, j)});
+    });
+  }
+  std::vector<Pair> fresh;
+  for (const auto& f : found) fresh.insert(fresh.end(), f.begin(), f.end());
+  std::sort(fresh.begin(), fresh.end(), pair_less<Pair>);
+  fresh.erase(std::unique(fresh.begin(), fresh.end(), pair_equal<Pair>), fresh.end());  // tiny periodic boxes
+  const std::size_t old_size = pairs_.size();
+  pairs_.insert(pairs_.end(), fresh.begin(), fresh.end());
+  std::inplace_merge(pairs_.begin(), pairs_.begin() + static_cast<std::ptrdiff_t>(old_size), pairs_.end(),
+                     pair_less<Pair>);
+  for (int i : stale_spheres) travel_[s.spheres.cluster[i]] = 0.0;
+}
+
+template class NearPairs<2>;
+template class NearPairs<3>;
+
+}  // namespace ballagg

@@ -1,0 +1,72 @@
+#pragma once
+// The overlap detection of a time step (step 2a of §3) without a scan of the whole box at
+// every step.
+//
+// Clusters only translate between two detections (free flight, wall mirroring, and what
+// the minimisations moved them), so the distance between two spheres of different
+// clusters changes by at most what the two clusters travelled. The list keeps every pair
+// of spheres of different clusters closer than sigma + skin, and for each cluster how far
+// it has travelled since its pairs were listed (an upper bound for each of its spheres).
+// While two clusters have both travelled at most skin / 2, every pair of theirs that
+// overlaps now is in the list. A cluster that travelled more is *stale*: its pairs are
+// listed again from the cell list of the step. Late in a run, when a few large, slow
+// clusters hold most spheres, a step then costs the few fast clusters' spheres and the
+// listed pairs, instead of every sphere of the box. The pairs found are exactly those a
+// scan of the whole box finds.
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "ballagg/core/state.hpp"
+#include "ballagg/engines/time_stepping/adhesive_set.hpp"
+#include "ballagg/spatial/sorted_cell_list.hpp"
+
+namespace ballagg {
+
+template <int D>
+class NearPairs {
+ public:
+  NearPairs() = default;
+  // `skin` must not exceed the cell size of the cell lists passed to contacts() minus the
+  // largest contact distance: pairs closer than sigma + skin are then in neighbouring cells.
+  NearPairs(int n_cluster_ids, double skin);
+
+  // Cluster c moved by a displacement of this length (free flight, a wall).
+  void travelled(int c, double distance) { travel_[c] += distance; }
+  // A sphere of cluster c was moved by this much by the minimisations of the step; the
+  // largest over the cluster's spheres counts, at the next flush_shifts().
+  void shifted(int c, double distance);
+  void flush_shifts();
+  // Clusters a and b merged into `into`: each sphere of it travelled at most the larger.
+  void merged(int a, int b, int into);
+
+  // Lists the pairs of the stale clusters again, with the spheres at `positions`, and
+  // returns every pair of spheres of different clusters that overlaps or touches
+  // (d <= R_i + R_j), sorted by (i, j). `cells()` returns the cell list of `positions`; it
+  // is called only when some cluster is stale.
+  std::vector<SpherePair> contacts(const State<D>& s, const std::vector<Vec<D>>& positions,
+                                   const std::function<const SortedCellList<D>&()>& cells);
+
+  // Detections that scanned the whole box (the first, and those where the stale clusters
+  // held more than kFullScanFraction of the spheres), and those that refreshed a part.
+  std::int64_t full_scans() const { return full_scans_; }
+  std::int64_t partial_scans() const { return partial_scans_; }
+
+ private:
+  struct Pair {
+    std::int32_t i, j;  // i < j
+  };
+  bool stale(int c) const { return !(travel_[c] <= 0.5 * skin_); }
+  void scan_all(const State<D>& s, const SortedCellList<D>& cells);
+  void refresh(const State<D>& s, const SortedCellList<D>& cells, const std::vector<Vec<D>>& positions,
+               const std::vector<int>& stale_spheres);
+
+  double skin_ = 0.0;
+  std::vector<double> travel_;        // per cluster id; +inf before the first listing
+  std::vector<double> step_shift_;    // per cluster id: largest shift of a sphere this step
+  std::vector<std::int32_t> shifted_; // clusters with a non-zero step_shift_
+  std::vector<Pair> pairs_;           // sorted by (i, j)
+  std::int64_t full_scans_ = 0, partial_scans_ = 0;
+};
+
+}  // namespace ballagg
