@@ -189,6 +189,7 @@ TEST(Daha, StallDetectionGivesUpOnAProblemWithoutSolution) {
   }
   DahaParameters params;
   params.max_iterations = 20000;
+  params.stall_iterations = 0;
   std::vector<Vec<2>> u;
   DahaProblem<2> copy = p;
   EXPECT_EQ(minimise(copy, params, u).iterations, 20000);

@@ -24,6 +24,10 @@ namespace {
 // kGridMargin R_max during the minimisation before the list must be rebuilt.
 constexpr double kGridMargin = 1.0;
 
+// Steps of zero length at the end of a run that move clusters the last minimisation pushed
+// through a wall back inside, and resolve the overlaps this creates.
+constexpr int kFinalWallSteps = 8;
+
 // Pairs in one round above which its groups are solved on several threads.
 constexpr std::size_t kParallelPairs = 2000;
 // Spheres to check for new contacts above which the search runs on several threads.
@@ -51,6 +55,8 @@ class TimeSteppingEngine final : public Engine<D> {
 
  private:
   void prepare(const State<D>& s);
+  void step(State<D>& s, double t, RunObserver<D>& observer);
+  bool outside_walls(const State<D>& s) const;
   void advect(State<D>& s, double dt);
   void bin(const State<D>& s);
   void rebin();
@@ -115,28 +121,44 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
       if (stop.time < kNever) { observer.before_event(s, stop.time); s.time = stop.time; }
       break;
     }
-    const double t = std::min(s.time + dt, stop.time);
-    observer.before_event(s, t);
-    advect(s, t - s.time);
-    bin(s);
-    detect_overlaps(s);
-    resolve(s);
-    EventRecord record;
-    record.merges = commit(s);
-    ++counters_.steps;
-    ++counters_.events;
-    record.time = s.time;
-    record.kind = EventKind::time_step;
-    observer.after_event(s, record, counters_);
+    step(s, std::min(s.time + dt, stop.time), observer);
   }
-  // The final state lies inside the walls (the last minimisation may have pushed a cluster
-  // through one; the next step would have moved it back).
-  if (!s.box.periodic())
+  // The final state lies inside the walls. The last minimisation may have pushed a cluster
+  // through one; the next step would have moved it back and resolved the overlaps that
+  // creates, and so do steps of zero length here. Should they not settle, the clusters are
+  // moved back all the same (summary.json's max_overlap then shows what is left).
+  if (!s.box.periodic()) {
+    for (int k = 0; k < kFinalWallSteps && outside_walls(s); ++k) step(s, s.time, observer);
     for (int c : s.alive_clusters()) keep_inside_walls(s, c, s.time, false);
+  }
   result.counters = counters_;
   result.wall_seconds = elapsed();
   observer.on_finish(s, result);
   return result;
+}
+
+// One step to time t (t = s.time: walls and overlaps only).
+template <int D>
+void TimeSteppingEngine<D>::step(State<D>& s, double t, RunObserver<D>& observer) {
+  observer.before_event(s, t);
+  advect(s, t - s.time);
+  bin(s);
+  detect_overlaps(s);
+  resolve(s);
+  EventRecord record;
+  record.merges = commit(s);
+  ++counters_.steps;
+  ++counters_.events;
+  record.time = s.time;
+  record.kind = EventKind::time_step;
+  observer.after_event(s, record, counters_);
+}
+
+template <int D>
+bool TimeSteppingEngine<D>::outside_walls(const State<D>& s) const {
+  for (int c : s.alive_clusters())
+    if (wall_correction(s, c, s.time, false).shift != Vec<D>::Zero()) return true;
+  return false;
 }
 
 template <int D>

@@ -23,21 +23,21 @@ enum class TsDtRule {
 };
 
 struct DahaParameters {
-  double alpha = 0.033;       // alpha~ of (3.21): weight of the Lagrangian gradient in a velocity update
-  double gamma = 0.21;       // gamma~ of (3.21): weight of the phi * lambda * grad phi term
-  double delta = 0.27;       // delta of (3.20), (3.23): the artificial time step
-  double c_bar = 0.014;       // c-bar of (3.29): damping scale
-  double c_min = 0.06;       // lower bound of c_i: keeps the dynamics damped (stability, docs)
-  double c_max = 0.46;       // upper bound of the damping c_i (1 would freeze the spheres)
-  double beta_bar = 0.175;    // beta-bar of (3.29): multiplier growth scale
-  double beta_max = 0.07;    // upper bound of beta (reached when no constraint is violated)
-  double lambda0 = 0.24;     // lambda of (3.26): initial multiplier per unit overlap phi
+  double alpha = 0.043;       // alpha~ of (3.21): weight of the Lagrangian gradient in a velocity update
+  double gamma = 0.156;       // gamma~ of (3.21): weight of the phi * lambda * grad phi term
+  double delta = 2.4;       // delta of (3.20), (3.23): the artificial time step
+  double c_bar = 0.018;       // c-bar of (3.29): damping scale
+  double c_min = 0.229;       // lower bound of c_i: keeps the dynamics damped (stability, docs)
+  double c_max = 0.229;       // upper bound of the damping c_i (1 would freeze the spheres)
+  double beta_bar = 0.149;    // beta-bar of (3.29): multiplier growth scale
+  double beta_max = 0.112;    // upper bound of beta (reached when no constraint is violated)
+  double lambda0 = 0.10;     // lambda of (3.26): initial multiplier per unit overlap phi
   double eps_s = 1e-4;      // (3.27): largest move of a sphere in one iteration, in diameters
   double eps_c = 1e-3;      // (3.28): largest relative overlap left, 1 - d / (R_i + R_j)
   int max_iterations = 3000;  // per minimisation; reaching it is counted, not an error
   // A minimisation whose worst constraint violation (above eps_c) has not fallen below 0.9
   // of its best for this many iterations is given up (0: never): it is not converging.
-  int stall_iterations = 0;
+  int stall_iterations = 440;
 };
 
 struct TimeSteppingSettings {
