@@ -12,6 +12,7 @@
 #include <fmt/format.h>
 
 #include "ballagg/config/config.hpp"
+#include "ballagg/run/checkpointer.hpp"
 #include "ballagg/run/simulation.hpp"
 #include "ballagg/version.hpp"
 #include "analyze_command.hpp"
@@ -52,6 +53,10 @@ int main(int argc, char** argv) {
   run->add_option("--seed", seed, "Random seed (overrides initial.seed)")
       ->check(CLI::Range(std::uint64_t{0}, static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
   run->add_flag("--quiet,-q", run_options.quiet, "No progress output");
+  std::string resume_dir;
+  CLI::Option* resume = run->add_option("--resume", resume_dir, "Continue the interrupted run in RUN_DIR from its checkpoint")
+                            ->type_name("RUN_DIR");
+  for (const char* other : {"config", "--set", "--seed", "--out"}) resume->excludes(run->get_option(other));
 
   ConfigArgs show_args;
   CLI::App* show = app.add_subcommand("config", "Print the configuration that a run would use, as TOML");
@@ -98,11 +103,18 @@ int main(int argc, char** argv) {
       std::cout << ballagg::to_toml_text(c);
       return 0;
     }
+    if (!resume_dir.empty()) {
+      fmt::print("results in {}\n", ballagg::resume_simulation(resume_dir, run_options));
+      return 0;
+    }
     ballagg::Config c = ballagg::load_config(run_args.file, run_args.overrides);
     if (seed) c.initial.seed = *seed;
     const std::string dir = ballagg::run_simulation(c, run_options);
     fmt::print("results in {}\n", dir);
     return 0;
+  } catch (const ballagg::RunInterrupted& e) {
+    fmt::print(stderr, "ballagg: {}\n", e.what());
+    return 128 + e.signal();
   } catch (const ballagg::InputError& e) {
     fmt::print(stderr, "ballagg: error: {}\n", e.what());
     return kBadInput;

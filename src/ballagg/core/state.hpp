@@ -45,6 +45,9 @@ struct alignas(64) Cluster {
 };
 
 template <int D>
+struct StateCodec;  // checkpoints: core/state_codec.hpp
+
+template <int D>
 class State {
  public:
   Box<D> box;
@@ -114,6 +117,7 @@ class State {
   std::int64_t pinnings() const { return pinnings_; }
 
  private:
+  friend struct StateCodec<D>;  // saves and restores the bookkeeping below exactly
   std::uint64_t new_stamp() { return ++last_stamp_; }
   void assign_motion(int c, const Vec<D>& v, double t);
   void add_to_totals(int c, double sign) {
