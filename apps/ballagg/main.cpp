@@ -19,6 +19,7 @@
 #include "plot_command.hpp"
 #include "render_command.hpp"
 #include "sweep_command.hpp"
+#include "verify_command.hpp"
 
 namespace {
 
@@ -70,6 +71,8 @@ int main(int argc, char** argv) {
   ballagg::cli::add_plot_command(app, plot);
   ballagg::cli::RenderCommand render;
   ballagg::cli::add_render_command(app, render);
+  ballagg::cli::VerifyCommand verify;
+  ballagg::cli::add_verify_command(app, verify);
 
   try {
     app.parse(argc, argv);
@@ -98,6 +101,7 @@ int main(int argc, char** argv) {
     if (*sweep.command) return ballagg::cli::run_sweep_command(sweep);
     if (*plot.command) return ballagg::cli::run_plot_command(plot);
     if (*render.command) return ballagg::cli::run_render_command(render);
+    if (*verify.command) return ballagg::cli::run_verify_command(verify);
     if (*show) {
       const ballagg::Config c = ballagg::load_config(show_args.file, show_args.overrides);
       std::cout << ballagg::to_toml_text(c);

@@ -35,6 +35,7 @@ std::string StateCodec<D>::encode(const State<D>& s) {
   w.put(s.max_radius_);
   w.put(s.mean_radius_);
   w.put(s.pinnings_);
+  w.put(s.wall_impulse_);
   w.put(s.running_energy_);
   w.put(s.running_momentum_);
   w.put(s.resync_below_);
@@ -97,6 +98,7 @@ State<D> StateCodec<D>::decode(std::string_view bytes) {
   s.max_radius_ = r.get<double>("largest radius");
   s.mean_radius_ = r.get<double>("mean radius");
   s.pinnings_ = r.get<std::int64_t>("pinnings");
+  s.wall_impulse_ = r.get<Vec<D>>("wall impulse");
   s.running_energy_ = r.get<double>("kinetic energy");
   s.running_momentum_ = r.get<Vec<D>>("momentum");
   s.resync_below_ = r.get<int>("resync threshold");

@@ -95,13 +95,16 @@ struct Totals {
   Vec<D> momentum;
   double kinetic_energy;
   std::int64_t pinnings;
-  explicit Totals(const State<D>& s) : momentum(s.momentum()), kinetic_energy(s.kinetic_energy()), pinnings(s.pinnings()) {}
+  Vec<D> wall_impulse;
+  explicit Totals(const State<D>& s)
+      : momentum(s.momentum()), kinetic_energy(s.kinetic_energy()), pinnings(s.pinnings()), wall_impulse(s.wall_impulse()) {}
   // Checkpoints.
   std::string encode() const {
     ByteWriter w;
     w.put(momentum);
     w.put(kinetic_energy);
     w.put(pinnings);
+    w.put(wall_impulse);
     return w.take();
   }
   explicit Totals(std::string_view saved) {
@@ -109,6 +112,7 @@ struct Totals {
     momentum = r.get<Vec<D>>("momentum");
     kinetic_energy = r.get<double>("kinetic energy");
     pinnings = r.get<std::int64_t>("pinnings");
+    wall_impulse = r.get<Vec<D>>("wall impulse");
     r.expect_end();
   }
 };
@@ -153,6 +157,7 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   j["mass_total"] = s.total_mass();
   j["momentum_initial"] = vector_json<D>(initial.momentum);
   j["momentum_final"] = vector_json<D>(s.momentum());
+  j["wall_impulse"] = vector_json<D>(s.wall_impulse() - initial.wall_impulse);  // momentum_final - momentum_initial
   j["kinetic_energy_initial"] = initial.kinetic_energy;
   j["kinetic_energy_final"] = s.kinetic_energy();
   const std::optional<double> overlap = max_relative_overlap(s);
