@@ -30,27 +30,47 @@ std::uint32_t crc_of(std::string_view bytes) {
       crc32_z(0L, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<z_size_t>(bytes.size())));
 }
 
+// Hands the file's bytes to out(data, size) piece by piece: the header, the payload's
+// fields and sections (never copied into one buffer: a checkpoint of 10^6 spheres is a few
+// hundred MB), the CRC of the payload.
+template <class Out>
+void emit_checkpoint(const Checkpoint& c, Out&& out) {
+  ByteWriter fields;  // the small fields before the sections
+  fields.put_string(c.program_version);
+  fields.put<std::int32_t>(c.dimension);
+  fields.put_string(c.engine);
+  fields.put_string(c.config_toml);
+  fields.put(c.wall_seconds);
+  const std::string* sections[] = {&c.totals, &c.state, &c.engine_state, &c.timeseries, &c.snapshots};
+  std::uint64_t size = fields.bytes().size();
+  for (const std::string* s : sections) size += sizeof(std::uint64_t) + s->size();
+  ByteWriter header;
+  header.put(kCheckpointFormat);
+  header.put(kByteOrder);
+  header.put(size);
+  out(kMagic.data(), kMagic.size());
+  out(header.bytes().data(), header.bytes().size());
+  uLong crc = crc32_z(0L, Z_NULL, 0);
+  auto payload = [&](const char* data, std::size_t n) {
+    crc = crc32_z(crc, reinterpret_cast<const Bytef*>(data), static_cast<z_size_t>(n));
+    out(data, n);
+  };
+  payload(fields.bytes().data(), fields.bytes().size());
+  for (const std::string* s : sections) {
+    const std::uint64_t n = s->size();
+    payload(reinterpret_cast<const char*>(&n), sizeof n);
+    payload(s->data(), s->size());
+  }
+  const auto value = static_cast<std::uint32_t>(crc);
+  out(reinterpret_cast<const char*>(&value), sizeof value);
+}
+
 }  // namespace
 
 std::string encode_checkpoint(const Checkpoint& c) {
-  ByteWriter payload;
-  payload.put_string(c.program_version);
-  payload.put<std::int32_t>(c.dimension);
-  payload.put_string(c.engine);
-  payload.put_string(c.config_toml);
-  payload.put(c.wall_seconds);
-  for (const std::string* s : {&c.totals, &c.state, &c.engine_state, &c.timeseries, &c.snapshots}) payload.put_string(*s);
-  ByteWriter file;
-  const std::string& body = payload.bytes();
-  std::string out(kMagic);
-  file.put(kCheckpointFormat);
-  file.put(kByteOrder);
-  file.put<std::uint64_t>(body.size());
-  out += file.bytes();
-  out += body;
-  const std::uint32_t crc = crc_of(body);
-  out.append(reinterpret_cast<const char*>(&crc), sizeof crc);
-  return out;
+  std::string bytes;
+  emit_checkpoint(c, [&](const char* data, std::size_t n) { bytes.append(data, n); });
+  return bytes;
 }
 
 Checkpoint decode_checkpoint(std::string_view bytes, const std::string& source) {
@@ -100,25 +120,27 @@ Checkpoint read_checkpoint_file(const std::string& dir) {
   return decode_checkpoint(bytes, path.string());
 }
 
-void write_checkpoint_file(const std::string& dir, const std::string& bytes) {
+void write_checkpoint_file(const std::string& dir, const Checkpoint& checkpoint) {
   const fs::path target = fs::path(dir) / kCheckpointFile;
   const std::string temporary = temporary_path_for(target.string());
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) throw std::runtime_error(fmt::format("{}: cannot create: {}", temporary, std::strerror(errno)));
-  std::size_t done = 0;
-  while (done < bytes.size()) {
-    const ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    done += static_cast<std::size_t>(n);
-  }
-  const bool ok = done == bytes.size() && ::fsync(fd) == 0;
-  const int saved_errno = errno;
+  bool ok = true;
+  int error = 0;
+  emit_checkpoint(checkpoint, [&](const char* data, std::size_t n) {
+    for (std::size_t done = 0; ok && done < n;) {
+      const ssize_t w = ::write(fd, data + done, n - done);
+      if (w < 0 && errno == EINTR) continue;
+      if (w <= 0) { ok = false; error = w < 0 ? errno : ENOSPC; break; }
+      done += static_cast<std::size_t>(w);
+    }
+  });
+  if (ok && ::fsync(fd) != 0) { ok = false; error = errno; }
   ::close(fd);
   if (!ok) {
     std::error_code ec;
     fs::remove(temporary, ec);
-    throw std::runtime_error(fmt::format("{}: cannot write the checkpoint: {}", target.string(), std::strerror(saved_errno)));
+    throw std::runtime_error(fmt::format("{}: cannot write the checkpoint: {}", target.string(), std::strerror(error)));
   }
   rename_into_place(temporary, target.string());
 }

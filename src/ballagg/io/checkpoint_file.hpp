@@ -36,6 +36,7 @@ struct Checkpoint {
   std::string snapshots;        // empty without a trajectory
 };
 
+// The file's bytes (write_checkpoint_file writes the same without assembling them).
 std::string encode_checkpoint(const Checkpoint& c);
 // `source` names the bytes in messages (the file's path). Throws CheckpointError.
 Checkpoint decode_checkpoint(std::string_view bytes, const std::string& source);
@@ -45,6 +46,6 @@ Checkpoint read_checkpoint_file(const std::string& dir);
 // Writes dir/checkpoint.bin atomically and durably: a temporary file, flushed to the disk
 // (fsync), renamed over the previous checkpoint. A crash at any moment leaves either
 // the previous checkpoint or the new one. Throws std::runtime_error.
-void write_checkpoint_file(const std::string& dir, const std::string& bytes);
+void write_checkpoint_file(const std::string& dir, const Checkpoint& checkpoint);
 
 }  // namespace ballagg

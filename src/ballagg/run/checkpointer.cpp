@@ -45,7 +45,7 @@ bool Checkpointer<D>::checkpoint_due() {
 
 template <int D>
 void Checkpointer<D>::on_checkpoint(const State<D>& s, const EngineCounters&, const std::string& engine_state) {
-  write_checkpoint_file(dir_, encode_checkpoint(compose_(s, engine_state, seconds())));
+  write_checkpoint_file(dir_, compose_(s, engine_state, seconds()));
   ++written_;
   next_ = seconds() + every_;  // the interval runs from the end of a write
   if (const int signal = signals_ ? InterruptFlag::received() : 0) {
