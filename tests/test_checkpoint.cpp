@@ -20,6 +20,7 @@
 #include "ballagg/io/checkpoint_file.hpp"
 #include "ballagg/io/h5md_reader.hpp"
 #include "ballagg/io/state_csv.hpp"
+#include "cli_support.hpp"
 #include "support.hpp"
 
 extern char** environ;
@@ -30,10 +31,7 @@ namespace {
 using testing::small_config;
 using testing::TempDir;
 
-std::string read_file(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+const auto read_file = testing::slurp;
 
 // ---- in process: checkpoints at chosen points -------------------------------------------
 
