@@ -241,7 +241,7 @@ bool interrupt_run(const std::vector<std::string>& args, const std::filesystem::
   const auto checkpoint = dir / kCheckpointFile;
   for (int k = 0; k < 4000 && !std::filesystem::exists(checkpoint); ++k)
     std::this_thread::sleep_for(std::chrono::milliseconds(2));
-  const int delay_ms = std::uniform_int_distribution<int>(0, 200)(random);
+  const int delay_ms = std::uniform_int_distribution<int>(0, 150)(random);
   std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
   const bool finished = std::filesystem::exists(dir / "summary.json");
   kill(pid, signal);
@@ -300,12 +300,12 @@ void expect_killed_run_resumes_identically(const std::vector<std::string>& sets,
 }
 
 TEST(CheckpointCli, EventDrivenKilledAtRandomResumesIdentically) {
-  expect_killed_run_resumes_identically({"system.n=20000", "output.snapshot_every=10",
+  expect_killed_run_resumes_identically({"system.n=10000", "output.snapshot_every=25",
                                          "output.snapshot_formats=[\"h5md\", \"xyz\"]"}, true);
 }
 
 TEST(CheckpointCli, TimeSteppingKilledAtRandomResumesIdentically) {
-  expect_killed_run_resumes_identically({"engine.kind=\"ts\"", "system.n=2500", "stop.clusters=20",
+  expect_killed_run_resumes_identically({"engine.kind=\"ts\"", "system.n=1500", "stop.clusters=20",
                                          "output.snapshot_every=5", "output.snapshot_formats=[\"h5md\", \"xyz\"]"},
                                         true);
 }
@@ -314,11 +314,11 @@ TEST(CheckpointCli, TimeSteppingKilledAtRandomResumesIdentically) {
 TEST(CheckpointCli, SigtermWritesCheckpointAndSaysHowToResume) {
   TempDir tmp;
   const std::string run = (tmp / "run").string();
-  std::vector<std::string> args{"run", "--quiet", "--out", run, "--set", "system.n=60000"};
+  std::vector<std::string> args{"run", "--quiet", "--out", run, "--set", "system.n=30000"};
   // checkpoint_every = 0: the only checkpoint is the one the signal asks for.
   args.insert(args.end(), {"--set", "output.checkpoint_every=0"});
   const pid_t pid = spawn_ballagg(args, tmp / "run.log");
-  std::this_thread::sleep_for(std::chrono::milliseconds(400));
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
   kill(pid, SIGTERM);
   const int status = wait_status(pid);
   const std::string log = read_file(tmp / "run.log");
@@ -328,7 +328,7 @@ TEST(CheckpointCli, SigtermWritesCheckpointAndSaysHowToResume) {
   EXPECT_CONTAINS(log, "ballagg run --resume " + run);
   ASSERT_TRUE(std::filesystem::exists(tmp / "run" / kCheckpointFile));
   ASSERT_EQ(run_ballagg({"run", "--quiet", "--resume", run}, tmp / "resume.log"), 0) << read_file(tmp / "resume.log");
-  ASSERT_EQ(run_ballagg({"run", "--quiet", "--out", (tmp / "ref").string(), "--set", "system.n=60000", "--set",
+  ASSERT_EQ(run_ballagg({"run", "--quiet", "--out", (tmp / "ref").string(), "--set", "system.n=30000", "--set",
                          "output.checkpoint_every=0"}, tmp / "ref.log"), 0);
   EXPECT_TRUE(read_file(tmp / "ref" / "final.csv") == read_file(tmp / "run" / "final.csv"));
 }
