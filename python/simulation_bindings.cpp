@@ -21,9 +21,6 @@ namespace {
 // The callback returned False: the run ends after the event it was called for.
 struct StoppedByCallback {};
 
-// How often (events) Python gets to see a Ctrl-C during a run without a callback.
-constexpr std::int64_t kSignalCheckEvery = 256;
-
 template <int D>
 class Simulation;
 
@@ -38,7 +35,8 @@ class PythonObserver final : public RunObserver<D> {
       const py::object r = callback_(self_);
       if (py::isinstance<py::bool_>(r) && !r.cast<bool>()) throw StoppedByCallback{};
     }
-    if (c.events % kSignalCheckEvery == 0 && PyErr_CheckSignals() != 0) throw py::error_already_set();
+    // Ctrl-C (KeyboardInterrupt) after any event: a flag test, nanoseconds.
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
   }
   const EngineCounters& last() const { return last_; }
 
