@@ -3,7 +3,7 @@ BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 
-.PHONY: all setup configure build test demo bench clean
+.PHONY: all setup configure build python test demo bench clean
 
 all: build
 
@@ -15,6 +15,10 @@ configure: setup
 
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
+
+# The Python module alone (build/python); `make build` and `make test` build it too.
+python: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target ballagg_python
 
 test: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)

@@ -434,7 +434,7 @@ TEST_F(Cli, UnreadableConfigFileIsBadInput) {
 TEST_F(Cli, UnknownCommandLineOptionIsBadInput) {
   expect_bad_input({"run", "--bogus", "--out", path("out").string()}, path("out"), {"--bogus"});
   expect_bad_input({"frobnicate", "--out", path("out").string()}, path("out"),
-                   {"unknown command 'frobnicate' (commands: run, config, analyze, sweep, plot, render;"});
+                   {"unknown command 'frobnicate' (commands: run, config, analyze, sweep, plot, render, verify;"});
 }
 
 TEST_F(Cli, BadSeedIsBadInput) {

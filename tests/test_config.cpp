@@ -65,6 +65,7 @@ void expect_same_config(const Config& a, const Config& b) {
   EXPECT_EQ(a.stop.wall_seconds, b.stop.wall_seconds);
   EXPECT_EQ(a.output.timeseries_interval, b.output.timeseries_interval);
   EXPECT_EQ(a.output.xyz, b.output.xyz);
+  EXPECT_EQ(a.output.checkpoint_every, b.output.checkpoint_every);
 }
 
 // A file with every key set to a non-default value.
@@ -101,6 +102,7 @@ wall_seconds = 60
 [output]
 timeseries_interval = 0.5
 xyz = false
+checkpoint_every = 30
 )";
 
 }  // namespace
@@ -134,6 +136,7 @@ TEST(Config, EmptyTextGivesTheDocumentedDefaults) {
   EXPECT_TRUE(std::isinf(c.stop.wall_seconds) && c.stop.wall_seconds > 0);
   EXPECT_EQ(c.output.timeseries_interval, 0.0);
   EXPECT_TRUE(c.output.xyz);
+  EXPECT_EQ(c.output.checkpoint_every, 300.0);  // wall seconds
   EXPECT_EQ(c.source, "empty.toml");
 }
 
@@ -167,6 +170,7 @@ TEST(Config, EveryKeyIsRead) {
   EXPECT_EQ(c.stop.wall_seconds, 60.0);  // an integer where a real is expected is accepted
   EXPECT_EQ(c.output.timeseries_interval, 0.5);
   EXPECT_FALSE(c.output.xyz);
+  EXPECT_EQ(c.output.checkpoint_every, 30.0);
 }
 
 TEST(Config, EveryChoiceOfEveryEnumeratedKeyIsAccepted) {
@@ -316,6 +320,11 @@ TEST(Config, SetIntoASectionThatIsNotATableIsAnError) {
 TEST(Config, SetWithAnArrayForANumberIsAnError) {
   const std::string m = error_of("", {"system.n=[1, 2]"});
   EXPECT_CONTAINS(m, "--set system.n: system.n = [1, 2]: must be an integer");
+}
+
+TEST(Config, CheckpointIntervalIsWallSecondsAtLeastZero) {
+  EXPECT_EQ(parse_config_text("", "t", {"output.checkpoint_every=0"}).output.checkpoint_every, 0.0);
+  EXPECT_CONTAINS(error_of("", {"output.checkpoint_every=-1"}), "output.checkpoint_every = -1: must be a number of wall seconds >= 0");
 }
 
 TEST(Config, SnapshotFormatsAreAListOfDistinctKnownNames) {

@@ -38,6 +38,7 @@ class MemorySink final : public FrameSink<D> {
   explicit MemorySink(std::shared_ptr<std::vector<Frame<D>>> frames) : frames_(std::move(frames)) {}
   void write(const Frame<D>& f) override { frames_->push_back(f); }
   void finish() override { finished = true; }
+  std::uint64_t flush() override { return frames_->size(); }
   bool finished = false;
 
  private:

@@ -12,12 +12,14 @@
 #include <fmt/format.h>
 
 #include "ballagg/config/config.hpp"
+#include "ballagg/run/checkpointer.hpp"
 #include "ballagg/run/simulation.hpp"
 #include "ballagg/version.hpp"
 #include "analyze_command.hpp"
 #include "plot_command.hpp"
 #include "render_command.hpp"
 #include "sweep_command.hpp"
+#include "verify_command.hpp"
 
 namespace {
 
@@ -52,6 +54,10 @@ int main(int argc, char** argv) {
   run->add_option("--seed", seed, "Random seed (overrides initial.seed)")
       ->check(CLI::Range(std::uint64_t{0}, static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
   run->add_flag("--quiet,-q", run_options.quiet, "No progress output");
+  std::string resume_dir;
+  CLI::Option* resume = run->add_option("--resume", resume_dir, "Continue the interrupted run in RUN_DIR from its checkpoint")
+                            ->type_name("RUN_DIR");
+  for (const char* other : {"config", "--set", "--seed", "--out"}) resume->excludes(run->get_option(other));
 
   ConfigArgs show_args;
   CLI::App* show = app.add_subcommand("config", "Print the configuration that a run would use, as TOML");
@@ -65,6 +71,8 @@ int main(int argc, char** argv) {
   ballagg::cli::add_plot_command(app, plot);
   ballagg::cli::RenderCommand render;
   ballagg::cli::add_render_command(app, render);
+  ballagg::cli::VerifyCommand verify;
+  ballagg::cli::add_verify_command(app, verify);
 
   try {
     app.parse(argc, argv);
@@ -93,9 +101,14 @@ int main(int argc, char** argv) {
     if (*sweep.command) return ballagg::cli::run_sweep_command(sweep);
     if (*plot.command) return ballagg::cli::run_plot_command(plot);
     if (*render.command) return ballagg::cli::run_render_command(render);
+    if (*verify.command) return ballagg::cli::run_verify_command(verify);
     if (*show) {
       const ballagg::Config c = ballagg::load_config(show_args.file, show_args.overrides);
       std::cout << ballagg::to_toml_text(c);
+      return 0;
+    }
+    if (!resume_dir.empty()) {
+      fmt::print("results in {}\n", ballagg::resume_simulation(resume_dir, run_options));
       return 0;
     }
     ballagg::Config c = ballagg::load_config(run_args.file, run_args.overrides);
@@ -103,6 +116,9 @@ int main(int argc, char** argv) {
     const std::string dir = ballagg::run_simulation(c, run_options);
     fmt::print("results in {}\n", dir);
     return 0;
+  } catch (const ballagg::RunInterrupted& e) {
+    fmt::print(stderr, "ballagg: {}\n", e.what());
+    return 128 + e.signal();
   } catch (const ballagg::InputError& e) {
     fmt::print(stderr, "ballagg: error: {}\n", e.what());
     return kBadInput;

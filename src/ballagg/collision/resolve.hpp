@@ -25,7 +25,7 @@ void bounce_clusters(State<D>& s, int i, int j, double t, const CollisionSetting
 // Specular reflection of the whole cluster c at a wall normal to `axis` (rule 2.2).
 template <int D>
 void reflect_cluster(State<D>& s, int c, int axis, double t) {
-  s.set_velocity(c, reflect_velocity(s.clusters[c].velocity, axis), t);
+  s.set_velocity_at_wall(c, reflect_velocity(s.clusters[c].velocity, axis), t);
 }
 
 }  // namespace ballagg

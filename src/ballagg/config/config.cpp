@@ -315,6 +315,9 @@ Config read_config(const toml::table& root, const std::string& source, const std
     c.output.snapshot_formats.clear();
     for (int k : *v) c.output.snapshot_formats.push_back(static_cast<SnapshotFormat>(k));
   }
+  if (auto v = out.real("checkpoint_every", [](double v) { return v >= 0.0; },
+                        "must be a number of wall seconds >= 0 (0: checkpoints on SIGINT/SIGTERM only)"))
+    c.output.checkpoint_every = *v;
   out.reject_unknown_keys();
 
   // Rules that involve several keys.
@@ -459,7 +462,8 @@ std::vector<Section> entries(const Config& c) {
                  {{"timeseries_interval", c.output.timeseries_interval},
                   {"xyz", c.output.xyz},
                   {"snapshot_every", c.output.snapshot_every},
-                  {"snapshot_formats", formats}}};
+                  {"snapshot_formats", formats},
+                  {"checkpoint_every", c.output.checkpoint_every}}};
   if (c.engine.kind != EngineKind::ts) return {system, initial, collision, engine, stop, output};
   return {system, initial, collision, engine, ts, stop, output};
 }

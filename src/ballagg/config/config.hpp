@@ -68,6 +68,7 @@ struct OutputConfig {
   bool xyz = true;
   double snapshot_every = 0.0;       // simulated time between trajectory frames; 0: none
   std::vector<SnapshotFormat> snapshot_formats{SnapshotFormat::h5md};  // no duplicates
+  double checkpoint_every = 300.0;   // wall seconds between checkpoints; 0: none (signals still write one)
 };
 
 struct Config {

@@ -79,6 +79,7 @@ void State<D>::assign_motion(int c, const Vec<D>& v, double t) {
   k.velocity = v;
   for (int a = 0; a < D; ++a) {
     if (k.velocity[a] != 0.0 && pinned(c, a)) {
+      wall_impulse_[a] -= k.mass * k.velocity[a];  // the walls hold the cluster
       k.velocity[a] = 0.0;
       ++pinnings_;
     }

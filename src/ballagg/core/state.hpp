@@ -45,6 +45,9 @@ struct alignas(64) Cluster {
 };
 
 template <int D>
+struct StateCodec;  // checkpoints: core/state_codec.hpp
+
+template <int D>
 class State {
  public:
   Box<D> box;
@@ -81,6 +84,13 @@ class State {
   // Gives cluster c velocity v from time t on (re-anchors it at t). A component along an
   // axis where the cluster spans the whole box is set to zero (wall pinning, docs/model.md).
   void set_velocity(int c, const Vec<D>& v, double t);
+  // The same for a change of velocity by a wall (a reflection, rule 2.2): the momentum it
+  // transfers is added to wall_impulse().
+  void set_velocity_at_wall(int c, const Vec<D>& v, double t) {
+    wall_impulse_ -= clusters[c].mass * clusters[c].velocity;
+    set_velocity(c, v, t);
+    wall_impulse_ += clusters[c].mass * clusters[c].velocity;
+  }
 
   // Merges the clusters of the touching spheres i and j at time t into one rigid cluster
   // moving with the mass-weighted mean velocity (rule 2.9). The larger cluster (the one
@@ -112,8 +122,12 @@ class State {
 
   // Number of times a velocity component was zeroed by wall pinning.
   std::int64_t pinnings() const { return pinnings_; }
+  // Total momentum the walls have given the clusters (reflections and pinnings): with
+  // walls, momentum() changes by exactly this (up to round-off); periodic boxes keep 0.
+  const Vec<D>& wall_impulse() const { return wall_impulse_; }
 
  private:
+  friend struct StateCodec<D>;  // saves and restores the bookkeeping below exactly
   std::uint64_t new_stamp() { return ++last_stamp_; }
   void assign_motion(int c, const Vec<D>& v, double t);
   void add_to_totals(int c, double sign) {
@@ -135,6 +149,7 @@ class State {
   double max_radius_ = 0.0;
   double mean_radius_ = 0.0;
   std::int64_t pinnings_ = 0;
+  Vec<D> wall_impulse_ = Vec<D>::Zero();
   double running_energy_ = 0.0;
   Vec<D> running_momentum_ = Vec<D>::Zero();
   int resync_below_ = 0;

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <string_view>
 
@@ -80,6 +81,13 @@ class RunObserver {
   virtual void before_event(const State<D>&, double /*t*/) {}
   virtual void after_event(const State<D>&, const EventRecord&, const EngineCounters&) {}
   virtual void on_finish(const State<D>&, const RunResult&) {}
+
+  // Checkpoints (docs/checkpoints.md). An engine that supports them asks checkpoint_due()
+  // at points between two events (or steps) where everything it carries from one to the
+  // next can be saved; when it returns true, the engine hands that saved state to
+  // on_checkpoint (which may end the run by throwing). Keep checkpoint_due cheap.
+  virtual bool checkpoint_due() { return false; }
+  virtual void on_checkpoint(const State<D>&, const EngineCounters&, const std::string& /*engine_state*/) {}
 };
 
 template <int D>
@@ -88,6 +96,19 @@ class Engine {
   virtual ~Engine() = default;
   virtual std::string_view name() const = 0;
   virtual RunResult run(State<D>& state, const StopCriteria& stop, RunObserver<D>& observer) = 0;
+
+  // The checkpoint contract (docs/checkpoints.md). An engine that supports checkpoints
+  // (1) polls observer.checkpoint_due() during run() at points between events or steps and
+  // hands on_checkpoint bytes that hold everything it carries forward (counters included;
+  // the State is saved by the caller), and (2) implements resume_from: given the State
+  // restored from the same checkpoint and those bytes, it prepares itself so that the
+  // next run(state, ...) on that same State object continues exactly as the saved run
+  // would have, bit for bit (observer.on_start is still called). resume_from throws
+  // CheckpointError for bytes it did not write, and never reads out of bounds.
+  virtual bool supports_checkpoints() const { return false; }
+  virtual void resume_from(State<D>& /*state*/, std::string_view /*engine_state*/) {
+    throw std::logic_error(std::string(name()) + " cannot resume from a checkpoint");
+  }
 };
 
 }  // namespace ballagg

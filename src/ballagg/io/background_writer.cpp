@@ -8,6 +8,7 @@ template <int D>
 BackgroundWriter<D>::BackgroundWriter(std::vector<std::unique_ptr<FrameSink<D>>> sinks, int capacity)
     : sinks_(std::move(sinks)) {
   for (int k = 0; k < std::max(1, capacity); ++k) free_.push_back(std::make_unique<FrameSource<D>>());
+  capacity_ = free_.size();
   thread_ = std::thread([this] { drain(); });
 }
 
@@ -75,6 +76,19 @@ void BackgroundWriter<D>::finish() {
   stop();
   if (error_) std::rethrow_exception(error_);
   for (auto& s : sinks_) s->finish();
+}
+
+template <int D>
+std::vector<std::uint64_t> BackgroundWriter<D>::flush() {
+  {
+    // Every source back in the free list: nothing queued, nothing being written.
+    std::unique_lock lock(mutex_);
+    changed_.wait(lock, [&] { return free_.size() == capacity_ || error_; });
+    if (error_) std::rethrow_exception(error_);
+  }
+  std::vector<std::uint64_t> marks;
+  for (auto& s : sinks_) marks.push_back(s->flush());  // the writer thread is idle
+  return marks;
 }
 
 template class BackgroundWriter<2>;

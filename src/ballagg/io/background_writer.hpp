@@ -30,6 +30,8 @@ class BackgroundWriter {
   void submit();
   // Writes what is queued and completes every sink.
   void finish();
+  // Writes what is queued, then flushes every sink (FrameSink::flush): their marks.
+  std::vector<std::uint64_t> flush();
 
  private:
   void drain();
@@ -39,6 +41,7 @@ class BackgroundWriter {
   std::mutex mutex_;
   std::condition_variable changed_;
   std::vector<std::unique_ptr<FrameSource<D>>> free_;
+  std::size_t capacity_ = 0;
   std::unique_ptr<FrameSource<D>> filling_;
   std::deque<std::unique_ptr<FrameSource<D>>> queue_;
   bool closing_ = false;

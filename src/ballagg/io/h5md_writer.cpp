@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "ballagg/config/config.hpp"
 #include "ballagg/io/hdf5_handle.hpp"
 #include "ballagg/io/output_dir.hpp"
 #include "ballagg/version.hpp"
@@ -30,6 +31,7 @@ struct H5mdWriter<D>::Impl {
   Handle file;
   int n = 0;
   bool periodic = false;
+  bool keep = false;  // a checkpoint refers to the temporary file
   std::unique_ptr<Series> step, time, position, image, velocity, cluster, clusters, largest, energy;
 
   Impl(const std::string& path, const Particles<D>& p, const std::string& config_toml) {
@@ -111,8 +113,59 @@ struct H5mdWriter<D>::Impl {
     hdf5::write_string_dataset(parameters, "ballagg_version", kVersion);
   }
 
+  // Reopens the temporary file of a checkpointed run at `frames` frames.
+  Impl(const std::string& path, const Particles<D>& p, std::uint64_t frames) : keep(true) {
+    hdf5::quiet_errors();
+    target = path;
+    temporary = temporary_path_for(path);
+    n = p.size();
+    periodic = p.box.periodic();
+    std::error_code ec;
+    if (!std::filesystem::exists(temporary, ec))
+      throw InputError(fmt::format("{}: the trajectory of the checkpointed run is missing (cannot resume it)",
+                                   temporary.string()));
+    try {
+      reopen(frames);
+    } catch (const std::runtime_error& e) {
+      close_datasets();
+      file.reset();
+      throw InputError(fmt::format("{}: cannot continue the trajectory of the checkpointed run ({})",
+                                   temporary.string(), e.what()));
+    }
+  }
+
+  void reopen(hsize_t frames) {
+    file = Handle(H5Fopen(temporary.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
+    if (file.get() < 0) throw std::runtime_error("not a readable HDF5 file");
+    const hsize_t un = static_cast<hsize_t>(n);
+    auto series = [&](const std::string& path, hid_t type, std::vector<hsize_t> inner) {
+      return std::make_unique<Series>(file, path, type, std::move(inner), frames);
+    };
+    step = series("particles/all/position/step", H5T_NATIVE_INT64, {});
+    time = series("particles/all/position/time", H5T_NATIVE_DOUBLE, {});
+    position = series("particles/all/position/value", H5T_NATIVE_DOUBLE, {un, D});
+    if (periodic) image = series("particles/all/image/value", H5T_NATIVE_INT32, {un, D});
+    velocity = series("particles/all/velocity/value", H5T_NATIVE_DOUBLE, {un, D});
+    cluster = series("particles/all/cluster/value", H5T_NATIVE_INT32, {un});
+    clusters = series("observables/clusters/value", H5T_NATIVE_INT32, {});
+    largest = series("observables/largest_cluster/value", H5T_NATIVE_INT32, {});
+    energy = series("observables/kinetic_energy/value", H5T_NATIVE_DOUBLE, {});
+  }
+
+  std::uint64_t flush() {
+    check(H5Fflush(file, H5F_SCOPE_GLOBAL), fmt::format("{}: flush (disk full?)", target.string()));
+    keep = true;
+    return step->records();
+  }
+
   ~Impl() {
-    if (file.get() >= 0) discard();
+    if (file.get() < 0) return;
+    if (!keep) {
+      discard();
+      return;
+    }
+    close_datasets();  // the checkpoint's file stays, closed cleanly
+    file.reset();
   }
 
   void close_datasets() {
@@ -157,7 +210,17 @@ H5mdWriter<D>::H5mdWriter(const std::string& path, const Particles<D>& particles
     : impl_(std::make_unique<Impl>(path, particles, config_toml)) {}
 
 template <int D>
+H5mdWriter<D>::H5mdWriter(const std::string& path, const Particles<D>& particles, std::uint64_t mark)
+    : impl_(std::make_unique<Impl>(path, particles, mark)) {}
+
+template <int D>
 H5mdWriter<D>::~H5mdWriter() = default;
+
+template <int D>
+std::uint64_t H5mdWriter<D>::flush() {
+  hdf5::quiet_errors();
+  return impl_->flush();
+}
 
 // HDF5 (built thread-safe in Debian) keeps its error printing switch per thread, and
 // frames are written on BackgroundWriter's thread: each call silences it on its own thread,

@@ -31,9 +31,14 @@ class H5mdWriter final : public FrameSink<D> {
   // Creates a temporary file next to `path`, renamed to `path` by finish(). Throws
   // std::runtime_error if it cannot be created.
   H5mdWriter(const std::string& path, const Particles<D>& particles, const std::string& config_toml);
+  // A resumed run: reopens the temporary file left by a checkpointed one, cut back to
+  // `mark` frames (what flush() returned). Throws InputError if it is missing or damaged.
+  H5mdWriter(const std::string& path, const Particles<D>& particles, std::uint64_t mark);
   ~H5mdWriter() override;
   void write(const Frame<D>& frame) override;
   void finish() override;
+  // H5Fflush: the file on disk holds every frame so far. The mark: frames written.
+  std::uint64_t flush() override;
 
  private:
   struct Impl;

@@ -1,5 +1,6 @@
 #include "ballagg/io/hdf5_handle.hpp"
 
+#include <algorithm>
 #include <numeric>
 #include <stdexcept>
 #include <type_traits>
@@ -189,6 +190,18 @@ Series::Series(hid_t parent, const std::string& name, hid_t type, std::vector<hs
   check(H5Pset_chunk_cache(dapl, 0, 0, 1.0), "dataset access");
   dataset_ = Handle(check(H5Dcreate2(parent, name.c_str(), type, space, H5P_DEFAULT, dcpl, dapl), "dataset " + name),
                     H5Dclose);
+}
+
+Series::Series(hid_t parent, const std::string& name, hid_t type, std::vector<hsize_t> inner, hsize_t records)
+    : type_(type), inner_(std::move(inner)), records_(records) {
+  const Handle dapl(check(H5Pcreate(H5P_DATASET_ACCESS), "dataset access"), H5Pclose);
+  check(H5Pset_chunk_cache(dapl, 0, 0, 1.0), "dataset access");
+  dataset_ = Handle(check(H5Dopen2(parent, name.c_str(), dapl), "no dataset " + name), H5Dclose);
+  std::vector<hsize_t> dims = dimensions(dataset_);
+  if (dims.size() != inner_.size() + 1 || !std::equal(inner_.begin(), inner_.end(), dims.begin() + 1) || dims[0] < records)
+    throw std::runtime_error(fmt::format("dataset {}: not the series a checkpoint refers to", name));
+  dims[0] = records;
+  check(H5Dset_extent(dataset_, dims.data()), "cut back dataset " + name);
 }
 
 void Series::append(const void* data) {

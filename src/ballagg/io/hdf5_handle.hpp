@@ -81,9 +81,14 @@ class Series {
   // how many of the inner dimension's first axis go in one chunk.
   Series(hid_t parent, const std::string& name, hid_t type, std::vector<hsize_t> inner, hsize_t chunk_rows,
          Compression compression);
+  // Reopens the series `name` of an existing file, cut back to its first `records`
+  // (a resumed run: records written after its checkpoint are dropped). Throws
+  // std::runtime_error if it is not such a series or holds fewer records.
+  Series(hid_t parent, const std::string& name, hid_t type, std::vector<hsize_t> inner, hsize_t records);
   // Appends one record of prod(inner) values of the native type at `data`.
   void append(const void* data);
   hid_t id() const { return dataset_; }
+  hsize_t records() const { return records_; }
 
  private:
   Handle dataset_;

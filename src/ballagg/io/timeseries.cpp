@@ -4,10 +4,13 @@
 
 #include <fmt/format.h>
 
+#include "ballagg/io/byte_stream.hpp"
+
 namespace ballagg {
 
 template <int D>
 void TimeseriesRecorder<D>::on_start(const State<D>& s) {
+  if (resumed_) return;
   csv_ = "time,clusters,largest_cluster,kinetic_energy,";
   static constexpr const char* momentum_columns[] = {"px,", "py,", "pz,"};
   for (int a = 0; a < D; ++a) csv_ += momentum_columns[a];
@@ -54,6 +57,35 @@ void TimeseriesRecorder<D>::row(const State<D>& s, double t) {
   last_row_time_ = t;
   last_row_events_ = events_;
   schedule_drop(s.n_clusters());
+}
+
+template <int D>
+std::string TimeseriesRecorder<D>::save() const {
+  ByteWriter w;
+  w.put(interval_);
+  w.put(next_sample_);
+  w.put(next_drop_);
+  w.put(last_row_time_);
+  w.put(last_row_events_);
+  w.put(events_);
+  w.put(collisions_);
+  w.put_string(csv_);
+  return w.take();
+}
+
+template <int D>
+void TimeseriesRecorder<D>::restore(std::string_view saved) {
+  ByteReader r(saved, "checkpoint of timeseries.csv");
+  if (r.get<double>("interval") != interval_) r.fail("saved with another output.timeseries_interval");
+  next_sample_ = r.get<double>("next sample");
+  next_drop_ = r.get<int>("next drop");
+  last_row_time_ = r.get<double>("last row time");
+  last_row_events_ = r.get<std::int64_t>("last row events");
+  events_ = r.get<std::int64_t>("events");
+  collisions_ = r.get<std::int64_t>("collisions");
+  csv_ = r.get_string("rows");
+  r.expect_end();
+  resumed_ = true;
 }
 
 template class TimeseriesRecorder<2>;

@@ -5,6 +5,7 @@
 // about 200 rows per e-fold of the cluster count: enough to plot N(t) on log axes, and
 // bounded (about 2800 rows for a million spheres).
 #include <string>
+#include <string_view>
 
 #include "ballagg/engines/engine.hpp"
 
@@ -24,6 +25,11 @@ class TimeseriesRecorder final : public RunObserver<D> {
 
   const std::string& csv() const { return csv_; }
 
+  // Checkpoints: the rows so far and where the recorder stands. A restored recorder
+  // continues the file: its on_start adds nothing.
+  std::string save() const;
+  void restore(std::string_view saved);
+
  private:
   void row(const State<D>& s, double t);
   void schedule_drop(int clusters);
@@ -35,6 +41,7 @@ class TimeseriesRecorder final : public RunObserver<D> {
   std::int64_t last_row_events_ = -1;
   std::int64_t events_ = 0, collisions_ = 0;
   std::string csv_;
+  bool resumed_ = false;
 };
 
 }  // namespace ballagg

@@ -12,16 +12,22 @@ class XyzTrajectoryWriter final : public FrameSink<D> {
  public:
   // Writes to a temporary file next to `path`, renamed to `path` by finish().
   XyzTrajectoryWriter(const std::string& path, const Particles<D>& particles);
+  // A resumed run: continues the temporary file left by a checkpointed one, cut back to
+  // `mark` bytes (what flush() returned). Throws InputError if it is missing or shorter.
+  XyzTrajectoryWriter(const std::string& path, const Particles<D>& particles, std::uint64_t mark);
   ~XyzTrajectoryWriter() override;
   void write(const Frame<D>& frame) override;
   void finish() override;
+  std::uint64_t flush() override;  // the mark: bytes written
 
  private:
   std::string target_, temporary_;
   Particles<D> particles_;
   std::ofstream out_;
   std::string text_;  // one frame's text, reused
+  std::uint64_t bytes_ = 0;
   bool finished_ = false;
+  bool keep_ = false;  // a checkpoint refers to the temporary file
 };
 
 }  // namespace ballagg

@@ -10,13 +10,17 @@
 #include <nlohmann/json.hpp>
 
 #include "ballagg/analysis/overlap.hpp"
+#include "ballagg/core/state_codec.hpp"
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
 #include "ballagg/engines/time_stepping/time_stepping_engine.hpp"
 #include "ballagg/initial/initial_state.hpp"
+#include "ballagg/io/byte_stream.hpp"
+#include "ballagg/io/checkpoint_file.hpp"
 #include "ballagg/io/output_dir.hpp"
 #include "ballagg/io/state_csv.hpp"
 #include "ballagg/io/timeseries.hpp"
 #include "ballagg/io/xyz.hpp"
+#include "ballagg/run/checkpointer.hpp"
 #include "ballagg/run/progress.hpp"
 #include "ballagg/run/snapshots.hpp"
 #include "ballagg/version.hpp"
@@ -66,6 +70,14 @@ class ObserverList final : public RunObserver<D> {
     for (auto* o : list_) o->after_event(s, e, c);
   }
   void on_finish(const State<D>& s, const RunResult& r) override { for (auto* o : list_) o->on_finish(s, r); }
+  bool checkpoint_due() override {
+    for (auto* o : list_)
+      if (o->checkpoint_due()) return true;
+    return false;
+  }
+  void on_checkpoint(const State<D>& s, const EngineCounters& c, const std::string& engine_state) override {
+    for (auto* o : list_) o->on_checkpoint(s, c, engine_state);
+  }
 
  private:
   std::vector<RunObserver<D>*> list_;
@@ -83,7 +95,26 @@ struct Totals {
   Vec<D> momentum;
   double kinetic_energy;
   std::int64_t pinnings;
-  explicit Totals(const State<D>& s) : momentum(s.momentum()), kinetic_energy(s.kinetic_energy()), pinnings(s.pinnings()) {}
+  Vec<D> wall_impulse;
+  explicit Totals(const State<D>& s)
+      : momentum(s.momentum()), kinetic_energy(s.kinetic_energy()), pinnings(s.pinnings()), wall_impulse(s.wall_impulse()) {}
+  // Checkpoints.
+  std::string encode() const {
+    ByteWriter w;
+    w.put(momentum);
+    w.put(kinetic_energy);
+    w.put(pinnings);
+    w.put(wall_impulse);
+    return w.take();
+  }
+  explicit Totals(std::string_view saved) {
+    ByteReader r(saved, "checkpoint of the initial totals");
+    momentum = r.get<Vec<D>>("momentum");
+    kinetic_energy = r.get<double>("kinetic energy");
+    pinnings = r.get<std::int64_t>("pinnings");
+    wall_impulse = r.get<Vec<D>>("wall impulse");
+    r.expect_end();
+  }
 };
 
 template <int D>
@@ -126,6 +157,7 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   j["mass_total"] = s.total_mass();
   j["momentum_initial"] = vector_json<D>(initial.momentum);
   j["momentum_final"] = vector_json<D>(s.momentum());
+  j["wall_impulse"] = vector_json<D>(s.wall_impulse() - initial.wall_impulse);  // momentum_final - momentum_initial
   j["kinetic_energy_initial"] = initial.kinetic_energy;
   j["kinetic_energy_final"] = s.kinetic_energy();
   const std::optional<double> overlap = max_relative_overlap(s);
@@ -136,39 +168,92 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   return j.dump(2) + "\n";
 }
 
+// A fresh run (resume = null), or the continuation of one from its checkpoint (given is
+// then the checkpoint's resolved configuration and options.out_dir its directory).
 template <int D>
-std::string run_in_dimension(const Config& given, const RunOptions& options) {
-  State<D> state = make_initial_state<D>(given);  // all input checks happen before any output
-  const Config config = resolve_defaults(given, state);
-  const StopCriteria stop = stop_criteria(config);
+std::string run_in_dimension(const Config& given, const RunOptions& options, const Checkpoint* resume) {
+  // All input checks happen before any output.
+  State<D> state = resume ? StateCodec<D>::decode(resume->state) : make_initial_state<D>(given);
+  const Config config = resume ? given : resolve_defaults(given, state);
+  StopCriteria stop = stop_criteria(config);
   std::unique_ptr<Engine<D>> engine = make_engine<D>(config);
+  const double earlier_seconds = resume ? resume->wall_seconds : 0.0;
+  if (resume) {
+    if (resume->engine != engine->name())
+      throw CheckpointError(fmt::format("{}: written by engine {} for a configuration of engine {}", options.out_dir,
+                                        resume->engine, engine->name()));
+    engine->resume_from(state, resume->engine_state);
+    stop.wall_seconds -= earlier_seconds;  // stop.wall_seconds bounds the whole run
+  }
 
   const std::string dir = options.out_dir.empty() ? default_output_dir() : options.out_dir;
-  prepare_output_dir(dir);
+  if (!resume) prepare_output_dir(dir);
 
-  const Totals<D> initial(state);
+  const Totals<D> initial = resume ? Totals<D>(resume->totals) : Totals<D>(state);
   TimeseriesRecorder<D> timeseries(config.output.timeseries_interval);
+  if (resume) timeseries.restore(resume->timeseries);
   ProgressReporter<D> progress(stderr, options.progress_on_terminal && isatty(STDERR_FILENO), stop);
   ObserverList<D> observers;
   observers.add(&timeseries);
-  const std::unique_ptr<SnapshotRecorder<D>> snapshots = make_snapshot_recorder(config, state, dir);
+  std::optional<std::string_view> saved_snapshots;
+  if (resume && !resume->snapshots.empty()) saved_snapshots = resume->snapshots;
+  const std::unique_ptr<SnapshotRecorder<D>> snapshots = make_snapshot_recorder(config, state, dir, saved_snapshots);
   if (snapshots) observers.add(snapshots.get());
   if (!options.quiet) observers.add(&progress);
-  const RunResult result = engine->run(state, stop, observers);
+
+  std::optional<InterruptFlag> interrupts;
+  std::optional<Checkpointer<D>> checkpointer;
+  if (engine->supports_checkpoints()) {
+    if (options.checkpoint_on_signals) interrupts.emplace();
+    const std::string config_toml = to_toml_text(config);
+    const std::string engine_name(engine->name());
+    checkpointer.emplace(dir, config.output.checkpoint_every, interrupts.has_value(),
+                         [&, config_toml, engine_name](const State<D>& s, const std::string& engine_state, double seconds) {
+      Checkpoint c;
+      c.program_version = kVersion;
+      c.dimension = D;
+      c.engine = engine_name;
+      c.config_toml = config_toml;
+      c.wall_seconds = earlier_seconds + seconds;
+      c.totals = initial.encode();
+      c.state = StateCodec<D>::encode(s);
+      c.engine_state = engine_state;
+      c.timeseries = timeseries.save();
+      if (snapshots) c.snapshots = snapshots->save();
+      return c;
+    });
+    observers.add(&*checkpointer);
+  }
+  RunResult result = engine->run(state, stop, observers);
+  result.wall_seconds += earlier_seconds;
 
   write_file_atomically(dir, "final.csv", state_csv_text(state));
   if (config.output.xyz) write_file_atomically(dir, "final.xyz", xyz_frame_text(state));
   write_file_atomically(dir, "timeseries.csv", timeseries.csv());
   write_file_atomically(dir, "config.toml", to_toml_text(config));
   write_file_atomically(dir, "summary.json", summary_text(config, engine->name(), initial, state, result));
+  std::error_code ec;
+  std::filesystem::remove(std::filesystem::path(dir) / kCheckpointFile, ec);  // finished: nothing to resume
   return dir;
 }
 
 }  // namespace
 
 std::string run_simulation(const Config& config, const RunOptions& options) {
-  if (config.system.dimension == 2) return run_in_dimension<2>(config, options);
-  return run_in_dimension<3>(config, options);
+  if (config.system.dimension == 2) return run_in_dimension<2>(config, options, nullptr);
+  return run_in_dimension<3>(config, options, nullptr);
+}
+
+std::string resume_simulation(const std::string& dir, const RunOptions& options) {
+  const Checkpoint checkpoint = read_checkpoint_file(dir);
+  const Config config = parse_config_text(checkpoint.config_toml, (std::filesystem::path(dir) / kCheckpointFile).string());
+  if (config.system.dimension != checkpoint.dimension)
+    throw CheckpointError(fmt::format("{}: a checkpoint of dimension {} for a {}D configuration", dir,
+                                      checkpoint.dimension, config.system.dimension));
+  RunOptions resumed = options;
+  resumed.out_dir = dir;
+  if (config.system.dimension == 2) return run_in_dimension<2>(config, resumed, &checkpoint);
+  return run_in_dimension<3>(config, resumed, &checkpoint);
 }
 
 template Config resolve_defaults<2>(Config, const State<2>&);

@@ -25,11 +25,22 @@ struct RunOptions {
   std::string out_dir;         // empty: out/<timestamp>
   bool quiet = false;
   bool progress_on_terminal = true;  // redraw a bar if stderr is a terminal
+  // SIGINT and SIGTERM write a checkpoint and end the run (RunInterrupted). Off for runs
+  // inside another program (sweeps on threads, Python).
+  bool checkpoint_on_signals = true;
 };
 
 // The `ballagg run` command. Validates everything (throws InputError) before creating
 // the output directory, then runs and writes summary.json, timeseries.csv, final.csv and
 // final.xyz. Returns the output directory.
+// Checkpoints (output.checkpoint_every, signals) are written to the output directory's
+// checkpoint.bin, which is removed when the run finishes.
 std::string run_simulation(const Config& config, const RunOptions& options);
+
+// `ballagg run --resume DIR`: continues the run of DIR from its checkpoint.bin and
+// finishes it as the uninterrupted run would have (the same files, byte for byte, but
+// for the wall times). options.out_dir is ignored. Throws CheckpointError (an InputError)
+// when DIR holds no usable checkpoint.
+std::string resume_simulation(const std::string& dir, const RunOptions& options);
 
 }  // namespace ballagg

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "ballagg/io/byte_stream.hpp"
 #include "ballagg/io/h5md_writer.hpp"
 #include "ballagg/io/xyz_trajectory_writer.hpp"
 
@@ -24,6 +25,7 @@ void SnapshotRecorder<D>::take(const State<D>& s, double t) {
 
 template <int D>
 void SnapshotRecorder<D>::on_start(const State<D>& s) {
+  if (resumed_) return;
   next_k_ = static_cast<std::int64_t>(std::floor(s.time / every_)) + 1;
   take(s, s.time);
 }
@@ -51,23 +53,73 @@ void SnapshotRecorder<D>::on_finish(const State<D>& s, const RunResult& r) {
 }
 
 template <int D>
+std::string SnapshotRecorder<D>::save() {
+  ByteWriter w;
+  w.put_vector(writer_.flush());
+  w.put(every_);
+  w.put(next_k_);
+  w.put(events_);
+  w.put(frames_);
+  w.put(last_time_);
+  w.put(last_events_);
+  return w.take();
+}
+
+template <int D>
+std::vector<std::uint64_t> SnapshotRecorder<D>::saved_marks(std::string_view saved) {
+  ByteReader r(saved, "checkpoint of the trajectory");
+  return r.get_vector<std::uint64_t>("file marks");
+}
+
+template <int D>
+void SnapshotRecorder<D>::restore(std::string_view saved) {
+  ByteReader r(saved, "checkpoint of the trajectory");
+  r.get_vector<std::uint64_t>("file marks");
+  if (r.get<double>("interval") != every_) r.fail("saved with another output.snapshot_every");
+  next_k_ = r.get<std::int64_t>("next frame");
+  events_ = r.get<std::int64_t>("events");
+  frames_ = r.get<int>("frames");
+  last_time_ = r.get<double>("last frame time");
+  last_events_ = r.get<std::int64_t>("last frame events");
+  r.expect_end();
+  resumed_ = true;
+}
+
+template <int D>
 std::unique_ptr<SnapshotRecorder<D>> make_snapshot_recorder(const Config& c, const State<D>& initial,
-                                                            const std::string& dir) {
+                                                            const std::string& dir,
+                                                            std::optional<std::string_view> saved) {
   if (c.output.snapshot_every <= 0.0) return nullptr;
   const Particles<D> particles = particles_of(initial);
-  std::vector<std::unique_ptr<FrameSink<D>>> sinks;
-  for (SnapshotFormat f : c.output.snapshot_formats) {
-    const std::string path = (std::filesystem::path(dir) / (f == SnapshotFormat::h5md ? "trajectory.h5md" : "trajectory.xyz")).string();
-    if (f == SnapshotFormat::h5md) sinks.push_back(std::make_unique<H5mdWriter<D>>(path, particles, to_toml_text(c)));
-    else sinks.push_back(std::make_unique<XyzTrajectoryWriter<D>>(path, particles));
+  std::vector<std::uint64_t> marks;
+  if (saved) {
+    marks = SnapshotRecorder<D>::saved_marks(*saved);
+    if (marks.size() != c.output.snapshot_formats.size())
+      throw CheckpointError("checkpoint of the trajectory: saved for other output.snapshot_formats");
   }
-  return std::make_unique<SnapshotRecorder<D>>(c.output.snapshot_every, std::move(sinks),
-                                               c.engine.kind == EngineKind::ts);
+  std::vector<std::unique_ptr<FrameSink<D>>> sinks;
+  for (std::size_t k = 0; k < c.output.snapshot_formats.size(); ++k) {
+    const SnapshotFormat f = c.output.snapshot_formats[k];
+    const std::string path = (std::filesystem::path(dir) / (f == SnapshotFormat::h5md ? "trajectory.h5md" : "trajectory.xyz")).string();
+    if (f == SnapshotFormat::h5md) {
+      if (saved) sinks.push_back(std::make_unique<H5mdWriter<D>>(path, particles, marks[k]));
+      else sinks.push_back(std::make_unique<H5mdWriter<D>>(path, particles, to_toml_text(c)));
+    } else {
+      if (saved) sinks.push_back(std::make_unique<XyzTrajectoryWriter<D>>(path, particles, marks[k]));
+      else sinks.push_back(std::make_unique<XyzTrajectoryWriter<D>>(path, particles));
+    }
+  }
+  auto recorder = std::make_unique<SnapshotRecorder<D>>(c.output.snapshot_every, std::move(sinks),
+                                                        c.engine.kind == EngineKind::ts);
+  if (saved) recorder->restore(*saved);
+  return recorder;
 }
 
 template class SnapshotRecorder<2>;
 template class SnapshotRecorder<3>;
-template std::unique_ptr<SnapshotRecorder<2>> make_snapshot_recorder<2>(const Config&, const State<2>&, const std::string&);
-template std::unique_ptr<SnapshotRecorder<3>> make_snapshot_recorder<3>(const Config&, const State<3>&, const std::string&);
+template std::unique_ptr<SnapshotRecorder<2>> make_snapshot_recorder<2>(const Config&, const State<2>&, const std::string&,
+                                                                        std::optional<std::string_view>);
+template std::unique_ptr<SnapshotRecorder<3>> make_snapshot_recorder<3>(const Config&, const State<3>&, const std::string&,
+                                                                        std::optional<std::string_view>);
 
 }  // namespace ballagg

@@ -5,7 +5,10 @@
 // written from before_event, between two events (ed) or two steps (ts), without changing
 // the run: a run with snapshots gives the same results as one without. A frame due at the
 // instant of an event, or of the end of a time step, shows the state after it.
+#include <cstdint>
 #include <memory>
+#include <optional>
+#include <string_view>
 #include <string>
 #include <vector>
 
@@ -28,6 +31,13 @@ class SnapshotRecorder final : public RunObserver<D> {
 
   int frames() const { return frames_; }
 
+  // Checkpoints: flushes the files (every frame so far on disk) and saves their marks and
+  // where the recorder stands. A restored recorder's on_start takes no frame.
+  std::string save();
+  // The marks a saved recorder's sinks are to be reopened at (make_snapshot_recorder).
+  static std::vector<std::uint64_t> saved_marks(std::string_view saved);
+  void restore(std::string_view saved);
+
  private:
   double next_time() const { return static_cast<double>(next_k_) * every_; }
   void take(const State<D>& s, double t);
@@ -40,12 +50,15 @@ class SnapshotRecorder final : public RunObserver<D> {
   int frames_ = 0;
   double last_time_ = 0.0;
   std::int64_t last_events_ = -1;
+  bool resumed_ = false;
 };
 
 // The sinks a run's configuration asks for (trajectory.h5md, trajectory.xyz in `dir`),
-// on a background thread. Null when output.snapshot_every = 0.
+// on a background thread. Null when output.snapshot_every = 0. With `saved` (what save()
+// returned), the recorder of a resumed run: it continues the files it saved.
 template <int D>
 std::unique_ptr<SnapshotRecorder<D>> make_snapshot_recorder(const Config& resolved, const State<D>& initial,
-                                                            const std::string& dir);
+                                                            const std::string& dir,
+                                                            std::optional<std::string_view> saved = std::nullopt);
 
 }  // namespace ballagg

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "ballagg/core/vec.hpp"
+#include "ballagg/io/byte_stream.hpp"
 #include "ballagg/spatial/box.hpp"
 #include "ballagg/spatial/grid_geometry.hpp"
 
@@ -110,6 +111,40 @@ class CellGrid {
       while (a < D && ++k[a] == counts[a]) k[a++] = 0;
       if (a == D) break;
     }
+  }
+
+  // Checkpoints: every item's binned position and tag, and the order of each cell's list,
+  // so that a grid restored into one built with the same box, cell size and item count
+  // visits items in the same order as the saved one.
+  void save(ByteWriter& w) const {
+    std::vector<std::int32_t> sequence;  // the cells' lists one after the other
+    sequence.reserve(node_.size());
+    for (std::size_t c = 0; c < head_.size(); ++c)
+      for (std::int32_t id = head_[c]; id >= 0; id = node_[id].next) sequence.push_back(id);
+    w.put_vector(sequence);
+    for (const Node& n : node_) {
+      w.put(n.position);
+      w.put(n.tag);
+    }
+  }
+  void restore(ByteReader& r) {
+    const std::vector<std::int32_t> sequence = r.get_vector<std::int32_t>("cell lists", node_.size());
+    std::vector<char> seen(node_.size(), 0);
+    for (std::int32_t id : sequence) {
+      if (id < 0 || static_cast<std::size_t>(id) >= node_.size() || seen[id]) r.fail("cell lists name an item twice or none");
+      seen[id] = 1;
+    }
+    for (Node& n : node_) {
+      n = Node{};
+      n.position = r.get<Vec<D>>("binned position");
+      n.tag = r.get<std::int32_t>("cell tag");
+      for (int a = 0; a < D; ++a)
+        if (!(n.position[a] >= 0.0 && n.position[a] <= box_.length)) r.fail("binned position outside the box");
+    }
+    std::fill(head_.begin(), head_.end(), -1);
+    std::fill(cell_tag_.begin(), cell_tag_.end(), kMixed);
+    // link() puts an item at the head of its cell's list: the saved order, backwards.
+    for (auto k = sequence.rbegin(); k != sequence.rend(); ++k) link(*k, cell_index(node_[*k].position));
   }
 
  private:

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ballagg/core/small_vector.hpp"
+#include "ballagg/io/byte_stream.hpp"
 
 namespace ballagg {
 
@@ -80,6 +81,28 @@ class NeighborLists {
     std::size_t n = 0;
     for (const auto& p : partners_) n += static_cast<std::size_t>(p.size());
     return n / 2;
+  }
+
+  // Checkpoints: every list in its order; restore() into lists reset() to the same sizes.
+  void save(ByteWriter& w) const {
+    for (const Partners& p : partners_) w.put_array(p.data(), static_cast<std::size_t>(p.size()));
+    for (const Exposed& e : exposed_) w.put_array(e.data(), static_cast<std::size_t>(e.size()));
+  }
+  void restore(ByteReader& r) {
+    const auto n = static_cast<std::int32_t>(partners_.size());
+    for (Partners& p : partners_) {
+      r.get_into<std::int32_t>(p, "neighbour list", static_cast<std::uint64_t>(n));
+      for (std::int32_t j : p)
+        if (j < 0 || j >= n) r.fail("neighbour list names no sphere");
+    }
+    for (Exposed& e : exposed_) {
+      r.get_into<std::int32_t>(e, "exposed spheres", static_cast<std::uint64_t>(n));
+      for (std::int32_t k = 0; k < e.size(); ++k) {
+        const std::int32_t i = e[k];
+        if (i < 0 || i >= n || slot_[i] >= 0 || partners_[i].empty()) r.fail("exposed spheres inconsistent with the lists");
+        slot_[i] = k;
+      }
+    }
   }
 
  private:

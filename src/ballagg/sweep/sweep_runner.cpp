@@ -85,7 +85,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Commu
       const SweepRun& r = *mine[k];
       const fs::path dir = run_dir(o, r);
       try {
-        if (!finished(dir)) run_simulation(r.config, {dir.string(), true, false});
+        if (!finished(dir)) run_simulation(r.config, {dir.string(), true, false, false});
         analyze_run({dir.string(), "", "", ""});
         std::error_code ec;
         fs::remove(dir / "error.txt", ec);  // left by an earlier attempt

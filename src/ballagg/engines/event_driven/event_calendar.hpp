@@ -11,12 +11,14 @@
 // keyed by the earliest event of each (bucket_queue.hpp): repositioning a cluster after
 // an event costs O(1) there, where a heap of clusters cost O(log M) scattered comparisons.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
 #include "ballagg/core/small_vector.hpp"
 #include "ballagg/engines/engine.hpp"
 #include "ballagg/engines/event_driven/bucket_queue.hpp"
+#include "ballagg/io/byte_stream.hpp"
 
 namespace ballagg {
 
@@ -96,6 +98,48 @@ class EventCalendar {
     --stored_;
     reposition(c);
     return e;
+  }
+
+  // Checkpoints: every cluster's events (stale ones too: the event-queue peak counts them).
+  // restore() into a calendar reset() to the same number of clusters; check(e) throws for
+  // an event whose ids do not fit the state. The queue of clusters is rebuilt: its layout
+  // affects the speed only, never which event comes first (bucket_queue.hpp).
+  void save(ByteWriter& w) const {
+    for (const Filed& mine : filed_) {
+      w.put<std::uint32_t>(static_cast<std::uint32_t>(mine.size()));
+      for (const Event& e : mine) {  // field by field: the struct's padding is not data
+        w.put(e.time);
+        w.put(e.a);
+        w.put(e.b);
+        w.put(e.stamp_a);
+        w.put(e.stamp_b);
+        w.put(e.kind);
+      }
+    }
+  }
+  template <class Check>
+  void restore(ByteReader& r, Check&& check) {
+    stored_ = 0;
+    for (std::size_t c = 0; c < filed_.size(); ++c) {
+      Filed& mine = filed_[c];
+      mine.clear();
+      const auto n = r.get<std::uint32_t>("event count");
+      for (std::uint32_t k = 0; k < n; ++k) {
+        Event e;
+        e.time = r.get<double>("event time");
+        e.a = r.get<std::int32_t>("event");
+        e.b = r.get<std::int32_t>("event");
+        e.stamp_a = r.get<std::uint64_t>("event stamp");
+        e.stamp_b = r.get<std::uint64_t>("event stamp");
+        e.kind = r.get<EventKind>("event kind");
+        if (std::isnan(e.time)) r.fail("event at no time");
+        check(e);
+        mine.push_back(e);
+      }
+      if (!std::is_heap(mine.begin(), mine.end(), later)) r.fail("a cluster's events out of order");
+      stored_ += mine.size();
+      reposition(static_cast<int>(c));
+    }
   }
 
  private:

@@ -38,6 +38,7 @@
 #include "ballagg/core/prefetch.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
 #include "ballagg/engines/event_driven/event_calendar.hpp"
+#include "ballagg/io/byte_stream.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
 #include "ballagg/spatial/neighbor_lists.hpp"
 
@@ -47,13 +48,10 @@ namespace {
 template <int D>
 class EventDrivenCore {
  public:
-  EventDrivenCore(State<D>& state, const EventDrivenSettings& settings)
-      : s_(state), law_(settings.collision), skin_(choose_skin(state, settings.skin)),
-        grid_(state.box, 2.0 * state.max_radius() + 1.5 * skin_, state.n_spheres()) {
+  using Settings = EventDrivenSettings;
+  EventDrivenCore(State<D>& state, const EventDrivenSettings& settings) : EventDrivenCore(state, settings, Sized{}) {
     const int n = s_.n_spheres();
     const int m = static_cast<int>(s_.clusters.size());
-    sphere_.resize(n);
-    for (int i = 0; i < n; ++i) refresh_sphere(i);
     drift_.assign(m, Drift{});
     rebuild_at_.assign(m, kNever);
     lists_.reset(n, m);
@@ -72,7 +70,59 @@ class EventDrivenCore {
       if (s_.clusters[c].alive()) predict(c, /*skip_lower_clusters=*/true);
   }
 
+  // Restores what save() wrote for this state (a checkpoint): nothing is predicted again,
+  // so the run continues with the very events the saved one would have handled.
+  EventDrivenCore(State<D>& state, const EventDrivenSettings& settings, std::string_view saved)
+      : EventDrivenCore(state, settings, Sized{}) {
+    const int n = s_.n_spheres();
+    const int m = static_cast<int>(s_.clusters.size());
+    ByteReader r(saved, "checkpoint of the ed engine");
+    count_ = r.get<EngineCounters>("counters");
+    loop_ = r.get<EventLoopState>("loop state");
+    if (r.get<double>("skin") != skin_) r.fail("neighbour-list skin differs from the configuration's");
+    if (r.get<std::int32_t>("sphere count") != n || r.get<std::int32_t>("cluster count") != m)
+      r.fail("saved for another number of spheres or clusters");
+    grid_.restore(r);
+    lists_.reset(n, m);
+    lists_.restore(r);
+    calendar_.reset(m);
+    calendar_.restore(r, [&](const Event& e) {
+      const bool ok = e.kind == EventKind::collision ? e.a >= 0 && e.a < e.b && e.b < n
+                      : e.kind == EventKind::wall    ? e.a >= 0 && e.a < m && e.b >= 0 && e.b < D
+                      : e.kind == EventKind::list_rebuild && e.a >= 0 && e.a < m;
+      if (!ok) r.fail("an event that names no sphere or cluster");
+    });
+    drift_.resize(m);
+    for (Drift& d : drift_) {
+      d.displacement_at_anchor = r.get<Vec<D>>("drift");
+      d.slack = r.get<double>("drift slack");
+    }
+    rebuild_at_ = r.get_vector<double>("rebuild times", m);
+    if (static_cast<int>(rebuild_at_.size()) != m) r.fail("rebuild times for another number of clusters");
+    r.expect_end();
+  }
+
+  // Everything the engine carries from one event to the next (the state aside).
+  std::string save() const {
+    ByteWriter w;
+    w.put(count_);
+    w.put(loop_);
+    w.put(skin_);
+    w.put<std::int32_t>(s_.n_spheres());
+    w.put<std::int32_t>(static_cast<std::int32_t>(s_.clusters.size()));
+    grid_.save(w);
+    lists_.save(w);
+    calendar_.save(w);
+    for (const Drift& d : drift_) {
+      w.put(d.displacement_at_anchor);
+      w.put(d.slack);
+    }
+    w.put_vector(rebuild_at_);
+    return w.take();
+  }
+
   EngineCounters& counters() { return count_; }
+  EventLoopState& loop() { return loop_; }
 
   std::optional<Event> next_event() {
     while (!calendar_.empty()) {
@@ -93,6 +143,15 @@ class EventDrivenCore {
   }
 
  private:
+  // The members fixed by the settings and the state, and the sphere fields.
+  struct Sized {};
+  EventDrivenCore(State<D>& state, const EventDrivenSettings& settings, Sized)
+      : s_(state), law_(settings.collision), skin_(choose_skin(state, settings.skin)),
+        grid_(state.box, 2.0 * state.max_radius() + 1.5 * skin_, state.n_spheres()) {
+    sphere_.resize(s_.n_spheres());
+    for (int i = 0; i < s_.n_spheres(); ++i) refresh_sphere(i);
+  }
+
   // The requested skin, or default_skin(). Periodic boxes need every listed pair to be
   // closer than half the box, so the skin shrinks in a small periodic box.
   static double choose_skin(const State<D>& s, double requested) {
@@ -348,20 +407,7 @@ class EventDrivenCore {
   // rebuild_time(c) as of c's last prediction: every change of c is followed by predict(c).
   std::vector<double> rebuild_at_;
   EngineCounters count_;
-};
-
-template <int D>
-class EventDrivenEngine final : public Engine<D> {
- public:
-  explicit EventDrivenEngine(const EventDrivenSettings& settings) : settings_(settings) {}
-  std::string_view name() const override { return "ed"; }
-  RunResult run(State<D>& state, const StopCriteria& stop, RunObserver<D>& observer) override {
-    EventDrivenCore<D> core(state, settings_);
-    return run_event_loop(core, state, stop, observer);
-  }
-
- private:
-  EventDrivenSettings settings_;
+  EventLoopState loop_;
 };
 
 }  // namespace
@@ -377,7 +423,7 @@ double default_skin(const State<D>& s) {
 
 template <int D>
 std::unique_ptr<Engine<D>> make_event_driven_engine(const EventDrivenSettings& settings) {
-  return std::make_unique<EventDrivenEngine<D>>(settings);
+  return std::make_unique<EventLoopEngine<D, EventDrivenCore<D>>>("ed", settings);
 }
 
 template double default_skin<2>(const State<2>&);

@@ -4,6 +4,9 @@
 // engine and the naive reference differ only in how they find the next event.
 #include <chrono>
 #include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
 
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/engine.hpp"
@@ -26,6 +29,14 @@ bool collisions_impossible(const State<D>& s) {
   return true;
 }
 
+// What the loop carries from one event to the next besides the core's own state (saved
+// with it in a checkpoint).
+struct EventLoopState {
+  std::int64_t last_collision_event = 0;  // events handled when the last collision was
+};
+
+// `Core` also supplies loop() (an EventLoopState) and, for checkpoints, save(): its whole
+// state as bytes, taken between two events.
 template <int D, class Core>
 RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunObserver<D>& observer) {
   using clock = std::chrono::steady_clock;
@@ -39,12 +50,12 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
   RunResult result;
   EngineCounters& count = core.counters();
   observer.on_start(s);
-  std::int64_t last_collision_event = 0;
+  std::int64_t& last_collision_event = core.loop().last_collision_event;
   while (true) {
     if (s.n_clusters() <= stop.clusters) { result.reason = StopReason::clusters; break; }
-    if (count.events % kClockEvery == 0 && elapsed() >= stop.wall_seconds) {
-      result.reason = StopReason::wall_seconds;
-      break;
+    if (count.events % kClockEvery == 0) {
+      if (elapsed() >= stop.wall_seconds) { result.reason = StopReason::wall_seconds; break; }
+      if (observer.checkpoint_due()) observer.on_checkpoint(s, count, core.save());
     }
     if (count.events - last_collision_event > quiet_limit) {
       if (collisions_impossible(s)) { result.reason = StopReason::no_collision_possible; break; }
@@ -74,5 +85,39 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
   observer.on_finish(s, result);
   return result;
 }
+
+// An engine made of a Core run by run_event_loop (ed and ed-naive), with checkpoints: the
+// core is built from the state when run() starts, or restored by resume_from() from the
+// bytes its save() gave (Core(State&, const Settings&, std::string_view saved), which
+// throws CheckpointError for bytes that do not fit the state).
+template <int D, class Core>
+class EventLoopEngine final : public Engine<D> {
+ public:
+  using Settings = typename Core::Settings;
+  EventLoopEngine(std::string_view name, const Settings& settings) : name_(name), settings_(settings) {}
+  std::string_view name() const override { return name_; }
+  bool supports_checkpoints() const override { return true; }
+  void resume_from(State<D>& s, std::string_view saved) override {
+    resumed_.reset();
+    resumed_.emplace(s, settings_, saved);
+    resumed_state_ = &s;
+  }
+  RunResult run(State<D>& s, const StopCriteria& stop, RunObserver<D>& observer) override {
+    if (!resumed_) {
+      Core core(s, settings_);
+      return run_event_loop(core, s, stop, observer);
+    }
+    if (resumed_state_ != &s) throw std::logic_error("a resumed engine must run the state it was resumed with");
+    const RunResult r = run_event_loop(*resumed_, s, stop, observer);
+    resumed_.reset();
+    return r;
+  }
+
+ private:
+  std::string_view name_;
+  Settings settings_;
+  std::optional<Core> resumed_;
+  const State<D>* resumed_state_ = nullptr;
+};
 
 }  // namespace ballagg

@@ -8,6 +8,7 @@
 #include "ballagg/collision/resolve.hpp"
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
+#include "ballagg/io/byte_stream.hpp"
 
 namespace ballagg {
 namespace {
@@ -15,9 +16,24 @@ namespace {
 template <int D>
 class NaiveCore {
  public:
+  using Settings = CollisionSettings;
   NaiveCore(State<D>& state, const CollisionSettings& law) : s_(state), law_(law) {}
+  // Everything it keeps between events is its counters: it predicts from scratch.
+  NaiveCore(State<D>& state, const CollisionSettings& law, std::string_view saved) : s_(state), law_(law) {
+    ByteReader r(saved, "checkpoint of the ed-naive engine");
+    count_ = r.get<EngineCounters>("counters");
+    loop_ = r.get<EventLoopState>("loop state");
+    r.expect_end();
+  }
 
   EngineCounters& counters() { return count_; }
+  EventLoopState& loop() { return loop_; }
+  std::string save() const {
+    ByteWriter w;
+    w.put(count_);
+    w.put(loop_);
+    return w.take();
+  }
 
   std::optional<Event> next_event() {
     std::optional<Event> best;
@@ -81,27 +97,14 @@ class NaiveCore {
   State<D>& s_;
   CollisionSettings law_;
   EngineCounters count_;
-};
-
-template <int D>
-class NaiveEngine final : public Engine<D> {
- public:
-  explicit NaiveEngine(const CollisionSettings& law) : law_(law) {}
-  std::string_view name() const override { return "ed-naive"; }
-  RunResult run(State<D>& state, const StopCriteria& stop, RunObserver<D>& observer) override {
-    NaiveCore<D> core(state, law_);
-    return run_event_loop(core, state, stop, observer);
-  }
-
- private:
-  CollisionSettings law_;
+  EventLoopState loop_;
 };
 
 }  // namespace
 
 template <int D>
 std::unique_ptr<Engine<D>> make_naive_event_driven_engine(const CollisionSettings& settings) {
-  return std::make_unique<NaiveEngine<D>>(settings);
+  return std::make_unique<EventLoopEngine<D, NaiveCore<D>>>("ed-naive", settings);
 }
 
 template std::unique_ptr<Engine<2>> make_naive_event_driven_engine<2>(const CollisionSettings&);

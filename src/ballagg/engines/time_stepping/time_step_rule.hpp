@@ -13,6 +13,7 @@
 
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/time_stepping/ts_settings.hpp"
+#include "ballagg/io/byte_stream.hpp"
 
 namespace ballagg {
 
@@ -46,6 +47,16 @@ class TimeStepRule {
   }
 
   double initial_step() const { return initial_step_; }
+
+  // Checkpoints: the reference values taken from the state the run started from.
+  void save(ByteWriter& w) const {
+    w.put(initial_clusters_);
+    w.put(initial_step_);
+  }
+  void restore(ByteReader& r) {
+    initial_clusters_ = r.get<int>("initial cluster count");
+    initial_step_ = r.get<double>("initial time step");
+  }
 
  private:
   TsDtRule rule_;

@@ -16,6 +16,7 @@
 #include "ballagg/engines/time_stepping/time_step_rule.hpp"
 #include "ballagg/engines/time_stepping/walls.hpp"
 #include "ballagg/spatial/sorted_cell_list.hpp"
+#include "ballagg/io/byte_stream.hpp"
 
 namespace ballagg {
 namespace {
@@ -52,8 +53,13 @@ class TimeSteppingEngine final : public Engine<D> {
       : settings_(settings), sink_(sink) {}
   std::string_view name() const override { return "ts"; }
   RunResult run(State<D>& s, const StopCriteria& stop, RunObserver<D>& observer) override;
+  bool supports_checkpoints() const override { return true; }
+  void resume_from(State<D>& s, std::string_view saved) override;
 
  private:
+  // Checkpoints, taken between two steps: all a step leaves behind is the counters, the
+  // step rule's reference values and the links of the per-sphere models.
+  std::string save() const;
   void prepare(const State<D>& s);
   void step(State<D>& s, double t, RunObserver<D>& observer);
   bool outside_walls(const State<D>& s) const;
@@ -99,6 +105,8 @@ class TimeSteppingEngine final : public Engine<D> {
   PairIndex round_contacts_;                 // the pairs the solutions of a round leave touching
   std::vector<int> moved_in_step_;           // spheres moved by this step's minimisations
   double length_scale_ = 1.0, delta_w_ = 0.0, mean_mass_ = 1.0;
+  std::optional<TimeStepRule> rule_;         // from the state at the start of the run
+  bool resumed_ = false;                     // resume_from prepared the next run()
 };
 
 template <int D>
@@ -106,12 +114,17 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
   using clock = std::chrono::steady_clock;
   const auto started = clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - started).count(); };
-  prepare(s);
-  const TimeStepRule rule(settings_, s);
+  if (!resumed_) {
+    prepare(s);
+    rule_.emplace(settings_, s);
+  }
+  resumed_ = false;
+  const TimeStepRule& rule = *rule_;
 
   RunResult result;
   observer.on_start(s);
   while (true) {
+    if (observer.checkpoint_due()) observer.on_checkpoint(s, counters_, save());
     if (s.n_clusters() <= stop.clusters) { result.reason = StopReason::clusters; break; }
     if (elapsed() >= stop.wall_seconds) { result.reason = StopReason::wall_seconds; break; }
     if (s.time >= stop.time) { result.reason = StopReason::time; break; }
@@ -178,6 +191,46 @@ void TimeSteppingEngine<D>::prepare(const State<D>& s) {
   S_ = AdhesiveSet(n_cluster_ids);
   bodies_ = StepBodies(n_cluster_ids);
   if (!rigid()) links_ = AdhesiveLinks(n);
+}
+
+template <int D>
+std::string TimeSteppingEngine<D>::save() const {
+  ByteWriter w;
+  w.put(counters_);
+  rule_->save(w);
+  w.put<std::int32_t>(static_cast<std::int32_t>(positions_.size()));
+  if (!rigid())
+    for (std::size_t i = 0; i < positions_.size(); ++i) {
+      w.put<std::uint64_t>(links_.of(static_cast<int>(i)).size());
+      for (const LinkEnd& e : links_.of(static_cast<int>(i))) {
+        w.put(e.other);
+        w.put(e.lambda);
+      }
+    }
+  return w.take();
+}
+
+template <int D>
+void TimeSteppingEngine<D>::resume_from(State<D>& s, std::string_view saved) {
+  ByteReader r(saved, "checkpoint of the ts engine");
+  prepare(s);
+  counters_ = r.get<EngineCounters>("counters");
+  rule_.emplace(settings_, s);
+  rule_->restore(r);
+  const int n = s.n_spheres();
+  if (r.get<std::int32_t>("sphere count") != n) r.fail("saved for another number of spheres");
+  if (!rigid())
+    for (int i = 0; i < n; ++i) {
+      const auto links = r.get<std::uint64_t>("link count");
+      for (std::uint64_t k = 0; k < links; ++k) {
+        const auto other = r.get<std::int32_t>("link");
+        const auto lambda = r.get<double>("link multiplier");
+        if (other <= i || other >= n) r.fail("a link that names no sphere");
+        links_.add(i, other, lambda);
+      }
+    }
+  r.expect_end();
+  resumed_ = true;
 }
 
 // Steps 1 and 2: free flight (positions are lazy: O(1) per cluster), then walls.

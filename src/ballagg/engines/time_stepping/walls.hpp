@@ -58,7 +58,7 @@ bool keep_inside_walls(State<D>& s, int c, double t, bool reflect = true) {
   if (s.box.periodic()) return false;
   const WallCorrection<D> w = wall_correction(s, c, t, reflect);
   if (w.shift != Vec<D>::Zero()) s.translate(c, w.shift, t);
-  if (w.reversed) s.set_velocity(c, w.velocity, t);
+  if (w.reversed) s.set_velocity_at_wall(c, w.velocity, t);
   return w.reversed;
 }
 

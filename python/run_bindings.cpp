@@ -1,0 +1,96 @@
+// ballagg.load(path): a finished run directory, as `ballagg analyze` and `render` read it:
+// its configuration, summary, time series, final state and trajectory frames.
+#include <filesystem>
+#include <sstream>
+
+#include "analysis_convert.hpp"
+#include "bindings.hpp"
+
+#include "ballagg/initial/initial_state.hpp"
+#include "ballagg/io/h5md_reader.hpp"
+#include "ballagg/io/run_directory.hpp"
+#include "ballagg/io/text_file.hpp"
+
+namespace ballagg::python {
+namespace {
+
+// timeseries.csv as columns of numpy arrays.
+py::dict timeseries_columns(const std::string& path) {
+  std::istringstream in(read_text_file(path, "time series"));
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> names;
+  for (std::istringstream s(line); std::getline(s, line, ',');) names.push_back(line);
+  std::vector<std::vector<double>> columns(names.size());
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::size_t k = 0;
+    for (std::istringstream s(line); std::getline(s, line, ',') && k < names.size(); ++k)
+      columns[k].push_back(std::strtod(line.c_str(), nullptr));
+  }
+  py::dict d;
+  for (std::size_t k = 0; k < names.size(); ++k) d[py::str(names[k])] = from_vector(columns[k]);
+  return d;
+}
+
+struct LoadedRun {
+  RunDirectory run;
+  py::object summary, timeseries;
+  py::dict final_state;
+  std::function<py::dict()> analyze;
+  std::function<int()> n_frames;
+  std::function<py::dict(int)> frame;
+};
+
+template <int D>
+void load_state(LoadedRun& r) {
+  Frame<D> f;
+  Particles<D> p;
+  read_final_state<D>(r.run, f, p);
+  r.final_state = frame_dict<D>(f, p);
+  r.analyze = [f, p] { return aggregate_analysis<D>(p.box, table_of<D>(f, p)); };
+  const std::string h5md = r.run.path("trajectory.h5md");
+  std::error_code ec;
+  if (std::filesystem::exists(h5md, ec)) {
+    auto reader = std::make_shared<H5mdReader<D>>(h5md);
+    r.n_frames = [reader] { return reader->frames(); };
+    r.frame = [reader](int k) {
+      if (k < 0) k += reader->frames();
+      if (k < 0 || k >= reader->frames()) throw py::index_error("no such trajectory frame");
+      return frame_dict<D>(reader->frame(k), reader->particles());
+    };
+  } else {
+    r.n_frames = [] { return 0; };
+    r.frame = [](int) -> py::dict { throw py::index_error("the run has no trajectory.h5md (output.snapshot_every = 0)"); };
+  }
+}
+
+}  // namespace
+
+void bind_run_directory(py::module_& m) {
+  py::class_<LoadedRun>(m, "Run", "A finished run directory (ballagg.load)")
+      .def_property_readonly("dir", [](const LoadedRun& r) { return r.run.dir; })
+      .def_property_readonly("config", [](const LoadedRun& r) { return r.run.config; })
+      .def_readonly("summary", &LoadedRun::summary, "summary.json as a dict")
+      .def_readonly("timeseries", &LoadedRun::timeseries, "timeseries.csv: column name -> numpy array")
+      .def_readonly("final", &LoadedRun::final_state,
+                    "The final state: positions, unwrapped_positions, velocities, radii, masses, cluster_ids, ...")
+      .def("analyze", [](const LoadedRun& r) { return r.analyze(); }, "Every indicator of `ballagg analyze` (a dict)")
+      .def_property_readonly("n_frames", [](const LoadedRun& r) { return r.n_frames(); }, "Frames in trajectory.h5md")
+      .def("frame", [](const LoadedRun& r, int k) { return r.frame(k); }, py::arg("k"),
+           "Trajectory frame k (negative: from the end) as a dict like `final`");
+
+  m.def("load", [](const py::object& path) {
+    LoadedRun r;
+    r.run = open_run_directory(py::str(path).cast<std::string>());
+    r.summary = json_loads(read_text_file(r.run.path("summary.json"), "run summary"));
+    std::error_code ec;
+    r.timeseries = std::filesystem::exists(r.run.path("timeseries.csv"), ec) ? py::object(timeseries_columns(r.run.path("timeseries.csv")))
+                                                                             : py::object(py::dict());
+    if (r.run.config.system.dimension == 2) load_state<2>(r);
+    else load_state<3>(r);
+    return r;
+  }, py::arg("path"), "Reads a run directory written by `ballagg run` (or ballagg.run).");
+}
+
+}  // namespace ballagg::python

@@ -1,0 +1,180 @@
+// ballagg.Simulation: a configuration's initial state and engine, run from Python with a
+// callback every k events (time steps for ts), the state read as numpy arrays; and
+// ballagg.run / resume / verify, the command line's run, run --resume and verify.
+#include <filesystem>
+
+#include <fmt/format.h>
+
+#include "analysis_convert.hpp"
+#include "bindings.hpp"
+
+#include "ballagg/analysis/overlap.hpp"
+#include "ballagg/initial/initial_state.hpp"
+#include "ballagg/io/output_dir.hpp"
+#include "ballagg/io/state_csv.hpp"
+#include "ballagg/run/simulation.hpp"
+#include "ballagg/run/verify_run.hpp"
+
+namespace ballagg::python {
+namespace {
+
+// The callback returned False: the run ends after the event it was called for.
+struct StoppedByCallback {};
+
+template <int D>
+class Simulation;
+
+template <int D>
+class PythonObserver final : public RunObserver<D> {
+ public:
+  PythonObserver(py::object callback, std::int64_t every, py::object self)
+      : callback_(std::move(callback)), every_(every), self_(std::move(self)) {}
+  void after_event(const State<D>&, const EventRecord&, const EngineCounters& c) override {
+    last_ = c;
+    if (!callback_.is_none() && ++calls_ % every_ == 0) {
+      const py::object r = callback_(self_);
+      if (py::isinstance<py::bool_>(r) && !r.cast<bool>()) throw StoppedByCallback{};
+    }
+    // Ctrl-C (KeyboardInterrupt) after any event: a flag test, nanoseconds.
+    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+  }
+  const EngineCounters& last() const { return last_; }
+
+ private:
+  py::object callback_;
+  std::int64_t every_;
+  py::object self_;
+  std::int64_t calls_ = 0;
+  EngineCounters last_;
+};
+
+py::dict result_dict(std::string_view reason, const EngineCounters& n, double seconds) {
+  py::dict d;
+  d["stop_reason"] = reason;
+  d["events"] = n.events;
+  d["collisions"] = n.collisions;
+  d["merges"] = n.merges;
+  d["bounces"] = n.bounces;
+  d["wall_bounces"] = n.wall_bounces;
+  d["steps"] = n.steps;
+  d["wall_seconds"] = seconds;
+  return d;
+}
+
+template <int D>
+class Simulation {
+ public:
+  explicit Simulation(const Config& given)
+      : state_(make_initial_state<D>(given)), config_(resolve_defaults(given, state_)), engine_(make_engine<D>(config_)) {}
+
+  py::dict run(const py::object& self, const py::object& callback, std::int64_t every, std::optional<int> clusters,
+               std::optional<double> time, std::optional<double> wall_seconds) {
+    if (every < 1) throw py::value_error("every must be >= 1");
+    StopCriteria stop = stop_criteria(config_);
+    if (clusters) stop.clusters = *clusters;
+    if (time) stop.time = *time;
+    if (wall_seconds) stop.wall_seconds = *wall_seconds;
+    PythonObserver<D> observer(callback, every, self);
+    try {
+      const RunResult r = engine_->run(state_, stop, observer);
+      return result_dict(to_string(r.reason), r.counters, r.wall_seconds);
+    } catch (const StoppedByCallback&) {
+      return result_dict("callback", observer.last(), 0.0);
+    }
+  }
+
+  Frame<D> frame() const { return capture_frame(state_, state_.time, 0); }
+  const State<D>& state() const { return state_; }
+  const Config& config() const { return config_; }
+  std::string_view engine() const { return engine_->name(); }
+
+ private:
+  State<D> state_;
+  Config config_;
+  std::unique_ptr<Engine<D>> engine_;
+};
+
+template <int D>
+void bind_simulation_in(py::module_& m, const char* name) {
+  using S = Simulation<D>;
+  py::class_<S>(m, name, "A simulation in D dimensions (made by ballagg.Simulation(config))")
+      .def("run", [](py::object self, const py::object& callback, std::int64_t every, std::optional<int> clusters,
+                     std::optional<double> time, std::optional<double> wall_seconds) {
+        return self.cast<S&>().run(self, callback, every, clusters, time, wall_seconds);
+      }, py::arg("callback") = py::none(), py::arg("every") = 1, py::arg("clusters") = py::none(),
+         py::arg("time") = py::none(), py::arg("wall_seconds") = py::none(),
+         "Runs until the configuration's stop criteria (or the ones given) hold. callback(sim) is called after "
+         "every `every` events (ts: time steps); returning False ends the run there. Calling run() again goes on "
+         "from the current state. Returns a dict: stop_reason, events, collisions, merges, ...")
+      .def_property_readonly("dimension", [](const S&) { return D; })
+      .def_property_readonly("engine", [](const S& s) { return std::string(s.engine()); })
+      .def_property_readonly("config", [](const S& s) { return s.config(); }, "The resolved configuration")
+      .def_property_readonly("time", [](const S& s) { return s.state().time; })
+      .def_property_readonly("n_spheres", [](const S& s) { return s.state().n_spheres(); })
+      .def_property_readonly("n_clusters", [](const S& s) { return s.state().n_clusters(); })
+      .def_property_readonly("largest_cluster", [](const S& s) { return s.state().largest_cluster(); })
+      .def_property_readonly("kinetic_energy", [](const S& s) { return s.state().kinetic_energy(); })
+      .def_property_readonly("momentum", [](const S& s) { return from_vec<D>(s.state().momentum()); })
+      .def_property_readonly("wall_impulse", [](const S& s) { return from_vec<D>(s.state().wall_impulse()); })
+      .def_property_readonly("box_length", [](const S& s) { return s.state().box.length; })
+      .def_property_readonly("periodic", [](const S& s) { return s.state().box.periodic(); })
+      .def_property_readonly("positions", [](const S& s) { return from_points<D>(s.frame().position); },
+                             "(n, D) sphere centres now, folded into a periodic box")
+      .def_property_readonly("unwrapped_positions", [](const S& s) {
+        const Frame<D> f = s.frame();
+        std::vector<Vec<D>> x(f.size());
+        for (int i = 0; i < f.size(); ++i) x[i] = f.unwrapped(i, s.state().box.length);
+        return from_points<D>(x);
+      }, "(n, D) centres with every cluster in one piece across periodic faces")
+      .def_property_readonly("velocities", [](const S& s) { return from_points<D>(s.frame().velocity); })
+      .def_property_readonly("radii", [](const S& s) { return from_vector(s.state().spheres.radius); })
+      .def_property_readonly("masses", [](const S& s) { return from_vector(s.state().spheres.mass); })
+      .def_property_readonly("cluster_ids", [](const S& s) {
+        const Frame<D> f = s.frame();
+        return from_vector(std::vector<std::int64_t>(f.cluster.begin(), f.cluster.end()));
+      }, "Per sphere: its cluster, 0, 1, ... in order of each cluster's first sphere (as final.csv)")
+      .def("max_overlap", [](const S& s) { return max_relative_overlap(s.state()); },
+           "Largest (R_i + R_j - d) / (R_i + R_j) over close pairs (None if no pair is close)")
+      .def("analyze", [](const S& s) {
+        const Frame<D> f = s.frame();
+        return aggregate_analysis<D>(s.state().box, table_of<D>(f, particles_of(s.state())));
+      }, "Every indicator of `ballagg analyze` for the current state (a dict)")
+      .def("write_state", [](const S& s, const std::string& path) {
+        const std::filesystem::path p(path);
+        write_file_atomically(p.parent_path().empty() ? "." : p.parent_path().string(), p.filename().string(),
+                              state_csv_text(s.state()));
+      }, py::arg("path"), "Writes the current state as a final.csv file (usable as initial.file)");
+}
+
+}  // namespace
+
+void bind_simulation(py::module_& m) {
+  bind_simulation_in<2>(m, "Simulation2D");
+  bind_simulation_in<3>(m, "Simulation3D");
+  m.def("Simulation", [](const py::object& config, const py::object& overrides) -> py::object {
+    if (py::isinstance<Config>(config) && !overrides.is_none())
+      throw py::value_error("overrides apply to a dict or a TOML path, not to a Config");
+    const Config c = py::isinstance<Config>(config) ? config.cast<Config>() : config_from(config, overrides);
+    if (c.system.dimension == 2) return py::cast(Simulation<2>(c));
+    return py::cast(Simulation<3>(c));
+  }, py::arg("config") = py::none(), py::arg("overrides") = py::none(),
+     "A simulation of a Config (or of what Config() accepts: None, a dict, a TOML path), at its initial state.");
+
+  m.def("run", [](const py::object& config, const std::string& out, bool quiet) {
+    const Config c = py::isinstance<Config>(config) ? config.cast<Config>() : config_from(config, py::none());
+    return run_simulation(c, {out, quiet, false, false});
+  }, py::arg("config") = py::none(), py::arg("out") = "", py::arg("quiet") = true,
+     "`ballagg run`: runs a configuration and writes its run directory (default out/<timestamp>); returns it.");
+  m.def("resume", [](const std::string& dir, bool quiet) { return resume_simulation(dir, {dir, quiet, false, false}); },
+        py::arg("dir"), py::arg("quiet") = true, "`ballagg run --resume DIR`: finishes an interrupted run.");
+  m.def("verify", [](const std::string& dir) {
+    const Verification v = verify_run(dir);
+    py::dict d;
+    d["checks"] = v.checks;
+    d["violations"] = v.violations;
+    d["notes"] = v.notes;
+    return d;
+  }, py::arg("dir"), "`ballagg verify DIR`: a dict of checks made, violations (empty when all hold) and notes.");
+}
+
+}  // namespace ballagg::python

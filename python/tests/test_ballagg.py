@@ -1,0 +1,219 @@
+"""The ballagg Python module: configurations, simulations with callbacks, numpy state,
+the analysis functions and run directories, checked against physics and against the
+command line (the same configuration and seed give the same bytes)."""
+import math
+import os
+import subprocess
+
+import numpy as np
+import pytest
+
+import ballagg
+
+BINARY = os.environ.get("BALLAGG_BINARY", "ballagg")
+
+
+def small(**sections):
+    """A small 2D system: 200 discs of radius 0.5 at volume fraction 0.2, random start."""
+    config = {"system": {"n": 200, "radius": 0.5, "volume_fraction": 0.2},
+              "initial": {"positions": "random", "seed": 3}}
+    for section, keys in sections.items():
+        config.setdefault(section, {}).update(keys)
+    return config
+
+
+# ---- configurations ----------------------------------------------------------------------
+
+def test_config_from_dict_resolves_every_key():
+    c = ballagg.Config({"system": {"n": 400, "dimension": 3}, "engine": {"kind": "ts"}})
+    d = c.to_dict()
+    assert d["system"]["n"] == 400 and d["system"]["dimension"] == 3
+    assert d["engine"]["kind"] == "ts"
+    assert c.dimension == 3
+    assert "[output]" in c.to_toml()
+
+
+def test_config_from_toml_file_with_overrides(tmp_path):
+    path = tmp_path / "run.toml"
+    path.write_text("[system]\nn = 50\nradius = 0.25\n")
+    c = ballagg.Config(path, overrides={"stop": {"clusters": 5}})
+    assert c.to_dict()["system"]["radius"] == 0.25
+    assert c.to_dict()["stop"]["clusters"] == 5
+
+
+def test_bad_values_raise_input_error_naming_the_key():
+    with pytest.raises(ballagg.InputError, match="system.n"):
+        ballagg.Config({"system": {"n": -3}})
+    with pytest.raises(ballagg.InputError, match="nonsense"):
+        ballagg.Config({"system": {"nonsense": 1}})
+    with pytest.raises(ValueError):  # InputError is a ValueError
+        ballagg.Config({"engine": {"kind": "warp"}})
+    with pytest.raises(TypeError):
+        ballagg.Config({"system": {"n": object()}})
+
+
+# ---- simulations -------------------------------------------------------------------------
+
+def test_state_arrays_have_the_shapes_and_values_of_the_configuration():
+    sim = ballagg.Simulation(small())
+    n = 200
+    assert sim.positions.shape == (n, 2) and sim.velocities.shape == (n, 2)
+    assert np.all(sim.radii == 0.5) and np.all(sim.masses == 1.0)
+    assert np.all((sim.positions >= 0) & (sim.positions <= sim.box_length))
+    assert len(np.unique(sim.cluster_ids)) == sim.n_clusters == n
+    # Speed 1 in random directions (the default fixed_speed start).
+    assert np.allclose(np.linalg.norm(sim.velocities, axis=1), 1.0)
+
+
+def test_callback_every_k_events_sees_clusters_merge_with_momentum_conserved():
+    sim = ballagg.Simulation(small(system={"boundary": "periodic"}, initial={"zero_momentum": True}))
+    seen = []
+
+    def watch(s):
+        p = (s.masses[:, None] * s.velocities).sum(axis=0)
+        seen.append((s.time, s.n_clusters, len(np.unique(s.cluster_ids)), np.abs(p).max()))
+
+    result = sim.run(watch, every=10)
+    assert result["stop_reason"] == "clusters" and sim.n_clusters == 1
+    assert len(seen) == result["events"] // 10
+    times, clusters, labels, momentum = zip(*seen)
+    assert list(times) == sorted(times)
+    assert list(clusters) == sorted(clusters, reverse=True)  # merging only
+    assert clusters == labels                                  # cluster_ids agree with the count
+    assert max(momentum) < 1e-9                                # a periodic box conserves momentum
+
+
+def test_callback_returning_false_stops_the_run_and_run_continues():
+    sim = ballagg.Simulation(small())
+    result = sim.run(lambda s: s.n_clusters > 150)
+    assert result["stop_reason"] == "callback" and sim.n_clusters == 150
+    assert sim.run(clusters=100)["stop_reason"] == "clusters" and sim.n_clusters == 100
+
+
+def test_time_stepping_engine_with_a_callback_every_step():
+    sim = ballagg.Simulation(small(engine={"kind": "ts"}, stop={"clusters": 50}))
+    steps = []
+    result = sim.run(lambda s: steps.append(s.time), every=1)
+    assert sim.engine == "ts" and result["steps"] == len(steps) > 0
+    assert sim.max_overlap() <= sim.config.to_dict()["ts"]["eps_c"]
+
+
+def test_3d_simulation_with_walls_accounts_for_wall_impulse():
+    sim = ballagg.Simulation({"system": {"dimension": 3, "n": 300, "radius": 0.5},
+                              "initial": {"positions": "random", "seed": 2}})
+    p0 = sim.momentum
+    sim.run()
+    assert sim.dimension == 3 and sim.positions.shape == (300, 3)
+    # Collisions conserve momentum; only the walls change it.
+    assert np.allclose(sim.momentum - p0, sim.wall_impulse, atol=1e-9)
+
+
+def test_python_run_equals_the_command_line_byte_for_byte(tmp_path):
+    config = small()
+    out = tmp_path / "cli"
+    subprocess.run([BINARY, "run", "--quiet", "--out", str(out), "--set", "system.n=200", "--set",
+                    "system.radius=0.5", "--set", "system.volume_fraction=0.2", "--set",
+                    'initial.positions="random"', "--set", "initial.seed=3"], check=True)
+    sim = ballagg.Simulation(config)
+    sim.run()
+    sim.write_state(str(tmp_path / "python.csv"))
+    assert (tmp_path / "python.csv").read_bytes() == (out / "final.csv").read_bytes()
+
+
+# ---- run directories ---------------------------------------------------------------------
+
+def test_load_a_run_directory_and_verify_it(tmp_path):
+    out = ballagg.run(small(output={"snapshot_every": 5.0}), out=str(tmp_path / "run"))
+    run = ballagg.load(out)
+    assert run.summary["n_clusters"] == 1
+    assert run.timeseries["clusters"][0] == 200 and run.timeseries["clusters"][-1] == 1
+    assert run.final["positions"].shape == (200, 2)
+    assert run.n_frames >= 2
+    first, last = run.frame(0), run.frame(-1)
+    assert first["time"] == 0.0 and first["n_clusters"] == 200
+    assert np.array_equal(last["positions"], run.final["positions"])
+    assert run.analyze()["n_spheres"] == 200
+    report = ballagg.verify(out)
+    assert report["violations"] == [] and report["checks"] > 10
+
+
+def test_load_refuses_a_directory_that_is_not_a_run(tmp_path):
+    with pytest.raises(ballagg.InputError, match="not a run directory"):
+        ballagg.load(tmp_path)
+
+
+# ---- analysis functions ------------------------------------------------------------------
+
+def test_gyration_of_a_rectangle_of_points():
+    x = np.array([[0.0, 0.0], [4.0, 0.0], [0.0, 2.0], [4.0, 2.0]])
+    g = ballagg.gyration_shape(x)
+    assert np.allclose(g["centroid"], [2.0, 1.0])
+    assert np.allclose(g["eigenvalues"], [4.0, 1.0])        # variances 2^2 and 1^2
+    assert g["aspect_ratio"] == pytest.approx(4.0)
+    assert g["radius_of_gyration"] == pytest.approx(math.sqrt(5.0))
+    assert abs(g["orientation"][0]) == pytest.approx(1.0)
+
+
+def test_box_counting_of_a_line_and_of_a_filled_square():
+    t = np.linspace(0.0, 64.0, 4097)[:-1]
+    line = np.column_stack([t, np.full_like(t, 32.0)])
+    assert ballagg.box_counting(line, box_length=64.0, length_unit=0.1)["dimension"] == pytest.approx(1.0, abs=0.02)
+    g = np.arange(0.0, 64.0, 0.25) + 0.125
+    square = np.array([[a, b] for a in g for b in g])
+    assert ballagg.box_counting(square, box_length=64.0, length_unit=0.1)["dimension"] == pytest.approx(2.0, abs=0.02)
+
+
+def test_contacts_of_a_chain_of_three_touching_discs():
+    x = np.array([[1.0, 1.0], [2.0, 1.0], [3.0, 1.0], [8.0, 8.0]])
+    r = np.full(4, 0.5)
+    c = ballagg.count_contacts(x, r, np.array([0, 0, 0, 1]), box_length=10.0)
+    assert list(c["all"]) == [1, 2, 1, 0] and list(c["same_cluster"]) == [1, 2, 1, 0]
+    assert c["relative"] == pytest.approx(4 / (4 * 6))
+    assert ballagg.relative_contacts(4, 4, 2) == pytest.approx(c["relative"])
+
+
+def test_partition_spectrum_and_largest_cluster():
+    ids = np.array([7, 7, 3, 7, 3, 9])
+    p = ballagg.partition_clusters(ids)
+    assert list(p["label"]) == [0, 0, 1, 0, 1, 2]
+    assert list(p["start"]) == [0, 3, 5, 6] and list(p["members"]) == [0, 1, 3, 2, 4, 5]
+    spectrum = ballagg.mass_spectrum(ids)
+    assert list(spectrum["size"]) == [1, 2, 3] and list(spectrum["clusters"]) == [1, 1, 1]
+    assert ballagg.kth_largest_cluster(ids, 1) == 0 and ballagg.kth_largest_cluster(ids, 2) == 1
+
+
+def test_unwrap_a_pair_across_the_periodic_face():
+    x = np.array([[0.2, 5.0], [9.4, 5.0]])  # touching through x = 0 in a box of 10
+    unwrapped, percolating = ballagg.unwrap_clusters(x, np.full(2, 0.4), np.array([0, 0]), box_length=10.0)
+    assert abs(unwrapped[0, 0] - unwrapped[1, 0]) == pytest.approx(0.8)
+    assert not percolating[0]
+
+
+def test_mass_radius_and_pair_distribution_of_a_dense_disc_of_spheres():
+    g = np.arange(-20.0, 20.5, 1.0)
+    x = np.array([[a, b] for a in g for b in g if a * a + b * b <= 400.0]) + 50.0
+    n = len(x)
+    m = ballagg.mass_radius(np.arange(n), x, np.full(n, 0.5), np.ones(n), length_unit=0.5,
+                            radius_of_gyration=ballagg.gyration_shape(x)["radius_of_gyration"])
+    assert m["mass"] == n and m["dimension"] == pytest.approx(2.0, abs=0.1)  # a filled disc
+    p = ballagg.pair_distribution(x, 0.5, np.zeros(n, dtype=int), 0, box_length=100.0)
+    assert len(p["r"]) == len(p["all"]) == len(p["cluster"]) > 0
+
+
+def test_fit_line_is_exact_on_a_line():
+    f = ballagg.fit_line([1.0, 2.0, 3.0, 4.0], [3.0, 5.0, 7.0, 9.0])
+    assert f["slope"] == pytest.approx(2.0) and f["intercept"] == pytest.approx(1.0)
+    assert f["slope_error"] == pytest.approx(0.0, abs=1e-12)
+    assert ballagg.fit_line([1.0], [1.0]) is None
+
+
+def test_analyze_of_a_simulation_matches_the_loaded_run(tmp_path):
+    out = ballagg.run(small(stop={"clusters": 20}), out=str(tmp_path / "run"))
+    sim = ballagg.Simulation(small(stop={"clusters": 20}))
+    sim.run()
+    a, b = sim.analyze(), ballagg.load(out).analyze()
+    assert a["contacts"] == b["contacts"]
+    assert np.array_equal(a["clusters"]["size"], b["clusters"]["size"])
+    assert a["box_counting"]["dimension"] == b["box_counting"]["dimension"]
+    c = ballagg.analyze(sim.positions, sim.radii, sim.cluster_ids, sim.box_length, masses=sim.masses)
+    assert c["contacts"] == a["contacts"]

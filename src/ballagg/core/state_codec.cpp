@@ -1,0 +1,112 @@
+#include "ballagg/core/state_codec.hpp"
+
+#include <cmath>
+
+#include "ballagg/io/byte_stream.hpp"
+
+namespace ballagg {
+
+template <int D>
+std::string StateCodec<D>::encode(const State<D>& s) {
+  ByteWriter w;
+  w.put(s.box.length);
+  w.put(static_cast<std::int32_t>(s.box.boundary));
+  w.put(s.time);
+  w.put_vector(s.spheres.offset);
+  w.put_vector(s.spheres.radius);
+  w.put_vector(s.spheres.mass);
+  w.put_vector(s.spheres.cluster);
+  w.put<std::uint64_t>(s.clusters.size());
+  for (const Cluster<D>& k : s.clusters) {
+    w.put(k.anchor);
+    w.put(k.velocity);
+    w.put(k.anchor_time);
+    w.put(k.stamp);
+    w.put(k.mass);
+    w.put_vector(k.members);
+    w.put(k.lo);
+    w.put(k.hi);
+    w.put(k.last_collision_time);
+  }
+  w.put(s.last_stamp_);
+  w.put_vector(s.alive_);
+  w.put(s.largest_cluster_);
+  w.put(s.min_diameter_);
+  w.put(s.max_radius_);
+  w.put(s.mean_radius_);
+  w.put(s.pinnings_);
+  w.put(s.wall_impulse_);
+  w.put(s.running_energy_);
+  w.put(s.running_momentum_);
+  w.put(s.resync_below_);
+  return w.take();
+}
+
+template <int D>
+State<D> StateCodec<D>::decode(std::string_view bytes) {
+  ByteReader r(bytes, "checkpoint state");
+  State<D> s;
+  s.box.length = r.get<double>("box length");
+  const auto boundary = r.get<std::int32_t>("boundary");
+  if (boundary != static_cast<std::int32_t>(Boundary::walls) && boundary != static_cast<std::int32_t>(Boundary::periodic))
+    r.fail("unknown boundary");
+  if (!(std::isfinite(s.box.length) && s.box.length > 0.0)) r.fail("box length not a positive number");
+  s.box.boundary = static_cast<Boundary>(boundary);
+  s.time = r.get<double>("time");
+  s.spheres.offset = r.get_vector<Vec<D>>("sphere offsets");
+  const std::uint64_t n = s.spheres.offset.size();
+  s.spheres.radius = r.get_vector<double>("sphere radii", n);
+  s.spheres.mass = r.get_vector<double>("sphere masses", n);
+  s.spheres.cluster = r.get_vector<std::int32_t>("sphere clusters", n);
+  if (s.spheres.radius.size() != n || s.spheres.mass.size() != n || s.spheres.cluster.size() != n)
+    r.fail("sphere arrays of different lengths");
+  const auto m = r.get<std::uint64_t>("cluster count");
+  if (m > n) r.fail("more clusters than spheres");
+  s.clusters.resize(m);
+  std::uint64_t members = 0;
+  for (Cluster<D>& k : s.clusters) {
+    k.anchor = r.get<Vec<D>>("cluster anchor");
+    k.velocity = r.get<Vec<D>>("cluster velocity");
+    k.anchor_time = r.get<double>("cluster anchor time");
+    k.stamp = r.get<std::uint64_t>("cluster stamp");
+    k.mass = r.get<double>("cluster mass");
+    k.members = r.get_vector<std::int32_t>("cluster members", n - members);
+    members += k.members.size();
+    k.lo = r.get<Vec<D>>("cluster extent");
+    k.hi = r.get<Vec<D>>("cluster extent");
+    k.last_collision_time = r.get<double>("cluster collision time");
+  }
+  // Every sphere is a member of exactly the cluster it names.
+  if (members != n) r.fail("cluster members do not cover the spheres");
+  for (std::size_t c = 0; c < m; ++c)
+    for (std::int32_t i : s.clusters[c].members)
+      if (i < 0 || static_cast<std::uint64_t>(i) >= n || s.spheres.cluster[i] != static_cast<std::int32_t>(c))
+        r.fail("a cluster member that is not a sphere of that cluster");
+  s.last_stamp_ = r.get<std::uint64_t>("last stamp");
+  s.alive_ = r.get_vector<std::int32_t>("live clusters", m);
+  s.alive_slot_.assign(m, -1);
+  for (std::size_t k = 0; k < s.alive_.size(); ++k) {
+    const std::int32_t c = s.alive_[k];
+    if (c < 0 || static_cast<std::uint64_t>(c) >= m || s.alive_slot_[c] >= 0 || !s.clusters[c].alive())
+      r.fail("live cluster list inconsistent with the clusters");
+    s.alive_slot_[c] = static_cast<std::int32_t>(k);
+  }
+  for (std::size_t c = 0; c < m; ++c)
+    if (s.clusters[c].alive() && s.alive_slot_[c] < 0) r.fail("a cluster with members missing from the live list");
+  s.largest_cluster_ = r.get<int>("largest cluster");
+  s.min_diameter_ = r.get<double>("smallest diameter");
+  s.max_radius_ = r.get<double>("largest radius");
+  s.mean_radius_ = r.get<double>("mean radius");
+  s.pinnings_ = r.get<std::int64_t>("pinnings");
+  s.wall_impulse_ = r.get<Vec<D>>("wall impulse");
+  s.running_energy_ = r.get<double>("kinetic energy");
+  s.running_momentum_ = r.get<Vec<D>>("momentum");
+  s.resync_below_ = r.get<int>("resync threshold");
+  r.expect_end();
+  return s;
+}
+
+template struct StateCodec<2>;
+template struct StateCodec<3>;
+
+}  // namespace ballagg

@@ -1,0 +1,254 @@
+#include "ballagg/run/verify_run.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+
+#include "ballagg/analysis/pair_scan.hpp"
+#include "ballagg/core/disjoint_sets.hpp"
+#include "ballagg/core/parallel.hpp"
+#include "ballagg/io/run_directory.hpp"
+#include "ballagg/io/state_csv.hpp"
+#include "ballagg/io/text_file.hpp"
+
+namespace ballagg {
+namespace {
+
+// How many pairs or spheres a violation line names at most (the count is always given).
+constexpr std::size_t kExamples = 3;
+
+struct Summary {
+  nlohmann::json j;
+  std::string path;
+  bool has(const char* key) const { return j.contains(key) && !j[key].is_null(); }
+  double number(const char* key) const {
+    if (!j.contains(key) || !j[key].is_number()) throw InputError(fmt::format("{}: no number \"{}\"", path, key));
+    return j[key].get<double>();
+  }
+  template <int D>
+  Vec<D> vector(const char* key) const {
+    if (!j.contains(key) || !j[key].is_array() || j[key].size() != D)
+      throw InputError(fmt::format("{}: no {}-vector \"{}\"", path, D, key));
+    Vec<D> v;
+    for (int a = 0; a < D; ++a) v[a] = j[key][a].get<double>();
+    return v;
+  }
+};
+
+class Checker {
+ public:
+  explicit Checker(Verification& out) : out_(out) {}
+  // Counts a check; when it fails, records the line.
+  void check(bool holds, const std::string& violation) {
+    ++out_.checks;
+    if (!holds) out_.violations.push_back(violation);
+  }
+  void note(const std::string& why) { out_.notes.push_back(why); }
+  // |a - b| <= tol * scale.
+  void close(const char* what, double a, double b, double scale, double tol) {
+    check(std::abs(a - b) <= tol * scale, fmt::format("{}: summary.json says {}, the final state gives {}", what, a, b));
+  }
+
+ private:
+  Verification& out_;
+};
+
+template <int D>
+void verify_in_dimension(const RunDirectory& run, const Summary& summary, Checker& c) {
+  const Config& cfg = run.config;
+  const SphereTable<D> t = read_state_csv<D>(run.path("final.csv"));
+  const int n = static_cast<int>(t.position.size());
+  const Box<D> box{resolved_box_length(cfg), cfg.system.boundary};
+  const bool ts = cfg.engine.kind == EngineKind::ts;
+
+  // ---- counts and the box ----
+  c.check(n == static_cast<int>(summary.number("n_particles")),
+          fmt::format("spheres: final.csv has {}, summary.json n_particles = {}", n, summary.number("n_particles")));
+  if (cfg.initial.positions != InitialPositions::file)
+    c.check(n == cfg.system.n, fmt::format("spheres: final.csv has {}, config.toml system.n = {}", n, cfg.system.n));
+  if (n == 0) return;
+  double sigma_min = 1e300, r_max = 0.0;
+  for (double r : t.radius) {
+    sigma_min = std::min(sigma_min, 2.0 * r);
+    r_max = std::max(r_max, r);
+  }
+  {
+    std::vector<int> outside;
+    for (int i = 0; i < n; ++i)
+      for (int a = 0; a < D; ++a) {
+        const double x = t.position[i][a], r = box.periodic() ? 0.0 : t.radius[i];
+        const double slack = (ts ? cfg.ts.daha.eps_c : verify_tolerance::kExactContact) * sigma_min;
+        if (x - r < -slack || x + r > box.length + slack) { outside.push_back(i); break; }
+      }
+    c.check(outside.empty(), fmt::format("box: {} sphere(s) outside [0, {}]{} (first: line {} of final.csv)", outside.size(),
+                                         box.length, box.periodic() ? "" : " or through a wall",
+                                         outside.empty() ? 0 : t.line[outside.front()]));
+  }
+
+  // ---- clusters: labels, rigid motion ----
+  std::vector<std::int64_t> label = t.cluster;
+  if (label.empty()) {
+    c.note("final.csv has no cluster column: cluster checks skipped");
+    label.resize(n);
+    for (int i = 0; i < n; ++i) label[i] = i;
+  }
+  std::map<std::int64_t, std::vector<int>> members;
+  for (int i = 0; i < n; ++i) members[label[i]].push_back(i);
+  std::size_t largest = 0;
+  for (const auto& [id, m] : members) largest = std::max(largest, m.size());
+  c.check(static_cast<double>(members.size()) == summary.number("n_clusters"),
+          fmt::format("summary: n_clusters = {}, final.csv has {} clusters", summary.number("n_clusters"), members.size()));
+  c.check(static_cast<double>(largest) == summary.number("largest_cluster"),
+          fmt::format("summary: largest_cluster = {}, the largest cluster of final.csv has {} spheres",
+                      summary.number("largest_cluster"), largest));
+  {
+    std::vector<std::int64_t> nonrigid;
+    for (const auto& [id, m] : members)
+      for (int i : m)
+        if (t.velocity[i] != t.velocity[m.front()]) { nonrigid.push_back(id); break; }
+    c.check(nonrigid.empty(), fmt::format("rigid clusters: {} cluster(s) whose spheres move with different velocities "
+                                          "(first: cluster {})", nonrigid.size(), nonrigid.empty() ? -1 : nonrigid.front()));
+  }
+
+  // ---- overlaps and contacts ----
+  double stretch = 0.0;
+  if (ts && summary.has("max_link_stretch")) stretch = summary.number("max_link_stretch");
+  const double overlap_tol = ts ? cfg.ts.daha.eps_c : verify_tolerance::kExactContact;
+  const double contact_tol = ts ? cfg.ts.daha.eps_c + stretch : verify_tolerance::kExactContact;
+  struct Pair { int i, j; double overlap; };
+  std::vector<std::vector<Pair>> overlaps(max_threads()), contacts(max_threads());
+  std::vector<double> worst(max_threads(), -1e300);
+  // Links of the per-sphere models may stretch beyond what a contact graph can follow.
+  const bool contacts_checkable = contact_tol <= 1.0;
+  for_each_pair_within<D>(box, t.position, 4.0 * r_max, [&](int thread, int i, int j, double d) {
+    const double sigma = t.radius[i] + t.radius[j];
+    const double overlap = (sigma - d) / sigma;
+    worst[thread] = std::max(worst[thread], overlap);
+    if (overlap > overlap_tol) overlaps[thread].push_back({std::min(i, j), std::max(i, j), overlap});
+    if (contacts_checkable && label[i] == label[j] && d <= sigma * (1.0 + contact_tol)) contacts[thread].push_back({i, j, overlap});
+  });
+  std::vector<Pair> bad;
+  for (const auto& v : overlaps) bad.insert(bad.end(), v.begin(), v.end());
+  std::sort(bad.begin(), bad.end(), [](const Pair& a, const Pair& b) { return a.overlap > b.overlap; });
+  {
+    std::string list;
+    for (std::size_t k = 0; k < std::min(bad.size(), kExamples); ++k)
+      list += fmt::format("{}lines {} and {}: {:.3g}", k ? "; " : "", t.line[bad[k].i], t.line[bad[k].j], bad[k].overlap);
+    c.check(bad.empty(), fmt::format("overlap: {} pair(s) overlap by more than {} of their contact distance ({})",
+                                     bad.size(), overlap_tol, list));
+  }
+  const double largest_overlap = *std::max_element(worst.begin(), worst.end());
+  if (summary.has("max_overlap") && largest_overlap > -1e300)
+    c.close("summary: max_overlap", summary.number("max_overlap"), largest_overlap, 1.0, verify_tolerance::kSum);
+  if (!contacts_checkable)
+    c.note(fmt::format("links stretched up to {} sigma (max_link_stretch): connectivity not checked", stretch));
+  if (!t.cluster.empty() && contacts_checkable) {
+    DisjointSets pieces(n);
+    for (const auto& v : contacts)
+      for (const Pair& p : v) pieces.unite(p.i, p.j);
+    std::vector<std::string> broken;
+    int n_broken = 0;
+    for (const auto& [id, m] : members) {
+      int count = 0;
+      for (int i : m)
+        if (pieces.find(i) == i) ++count;
+      if (count > 1 && n_broken++ < static_cast<int>(kExamples))
+        broken.push_back(fmt::format("cluster {} ({} spheres) in {} pieces", id, m.size(), count));
+    }
+    std::string list;
+    for (const std::string& b : broken) list += (list.empty() ? "" : "; ") + b;
+    c.check(n_broken == 0, fmt::format("connected clusters: {} cluster(s) whose spheres do not form one contact graph at "
+                                       "contact tolerance {} ({})", n_broken, contact_tol, list));
+  }
+
+  // ---- budgets ----
+  double mass = 0.0, energy = 0.0;
+  Vec<D> momentum = Vec<D>::Zero();
+  for (int i = 0; i < n; ++i) {
+    mass += t.mass[i];
+    momentum += t.mass[i] * t.velocity[i];
+    energy += 0.5 * t.mass[i] * t.velocity[i].squaredNorm();
+  }
+  c.close("mass: mass_total", summary.number("mass_total"), mass, mass, verify_tolerance::kSum);
+  if (cfg.initial.positions != InitialPositions::file)
+    c.close("mass: initial mass n * system.mass", static_cast<double>(cfg.system.n) * cfg.system.mass, mass, mass,
+            verify_tolerance::kSum);
+  const double e0 = summary.number("kinetic_energy_initial");
+  const double p_scale = std::sqrt(2.0 * mass * std::max(e0, energy));
+  c.close("energy: kinetic_energy_final", summary.number("kinetic_energy_final"), energy, std::max(e0, energy),
+          verify_tolerance::kSum);
+  c.check(energy <= e0 * (1.0 + verify_tolerance::kBudget),
+          fmt::format("energy budget: kinetic energy grew from {} to {} (collisions and walls never add energy)", e0, energy));
+  const Vec<D> p_final = summary.vector<D>("momentum_final"), p_initial = summary.vector<D>("momentum_initial");
+  for (int a = 0; a < D; ++a)
+    c.close("momentum: momentum_final", p_final[a], momentum[a], p_scale, verify_tolerance::kSum);
+  if (summary.has("wall_impulse")) {
+    const Vec<D> walls = summary.vector<D>("wall_impulse");
+    if (box.periodic())
+      c.check(walls == Vec<D>::Zero(), "momentum budget: a periodic box with a wall impulse");
+    const Vec<D> missing = momentum - p_initial - walls;
+    c.check(missing.norm() <= verify_tolerance::kBudget * p_scale,
+            fmt::format("momentum budget: final - initial - wall impulse = ({}), more than {} of sqrt(2 M E)",
+                        fmt::join(missing.data(), missing.data() + D, ", "), verify_tolerance::kBudget));
+  } else if (box.periodic()) {
+    const Vec<D> missing = momentum - p_initial;
+    c.check(missing.norm() <= verify_tolerance::kBudget * p_scale,
+            fmt::format("momentum budget: momentum changed by ({}) in a periodic box",
+                        fmt::join(missing.data(), missing.data() + D, ", ")));
+  } else {
+    c.note("summary.json has no wall_impulse (an older ballagg): the momentum budget with walls is not checked");
+  }
+}
+
+// The last row of timeseries.csv against the summary: the final state.
+void verify_timeseries(const RunDirectory& run, const Summary& summary, Checker& c) {
+  std::error_code ec;
+  if (!std::filesystem::exists(run.path("timeseries.csv"), ec)) {
+    c.note("no timeseries.csv");
+    return;
+  }
+  std::istringstream in(read_text_file(run.path("timeseries.csv"), "time series"));
+  std::string header, line, last;
+  std::getline(in, header);
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  std::vector<std::string> names, values;
+  for (auto* v : {&names, &values}) {
+    std::istringstream s(v == &names ? header : last);
+    for (std::string f; std::getline(s, f, ',');) v->push_back(f);
+  }
+  auto value = [&](const std::string& name) -> std::optional<double> {
+    for (std::size_t k = 0; k < names.size() && k < values.size(); ++k)
+      if (names[k] == name) return std::strtod(values[k].c_str(), nullptr);
+    return std::nullopt;
+  };
+  for (auto [column, key] : {std::pair{"time", "time"}, {"clusters", "n_clusters"}, {"largest_cluster", "largest_cluster"},
+                             {"events", "events"}}) {
+    const std::optional<double> v = value(column);
+    c.check(v && *v == summary.number(key), fmt::format("timeseries.csv: last row {} = {}, summary.json {} = {}", column,
+                                                        v ? fmt::format("{}", *v) : "missing", key, summary.number(key)));
+  }
+}
+
+}  // namespace
+
+Verification verify_run(const std::string& dir) {
+  const RunDirectory run = open_run_directory(dir);
+  Summary summary{nlohmann::json::parse(read_text_file(run.path("summary.json"), "run summary"), nullptr, false),
+                  run.path("summary.json")};
+  Verification out;
+  Checker c(out);
+  if (run.config.system.dimension == 2) verify_in_dimension<2>(run, summary, c);
+  else verify_in_dimension<3>(run, summary, c);
+  verify_timeseries(run, summary, c);
+  return out;
+}
+
+}  // namespace ballagg

@@ -1,0 +1,357 @@
+// Checkpoints and restarts: a run saved at any point between two events (or steps) and
+// resumed continues bit for bit as if it had never stopped, including after SIGKILL at a
+// random moment; a checkpoint that is not exactly what we wrote is refused, never misread.
+#include <fcntl.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <omp.h>
+
+#include <chrono>
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <thread>
+
+#include "ballagg/core/state_codec.hpp"
+#include "ballagg/io/byte_stream.hpp"
+#include "ballagg/io/checkpoint_file.hpp"
+#include "ballagg/io/h5md_reader.hpp"
+#include "ballagg/io/state_csv.hpp"
+#include "cli_support.hpp"
+#include "support.hpp"
+
+extern char** environ;
+
+namespace ballagg {
+namespace {
+
+using testing::small_config;
+using testing::TempDir;
+
+const auto read_file = testing::slurp;
+
+// ---- in process: checkpoints at chosen points -------------------------------------------
+
+// Takes a checkpoint (state and engine bytes) at the first chance after `after` events.
+template <int D>
+class SaveOnce final : public RunObserver<D> {
+ public:
+  explicit SaveOnce(std::int64_t after) : after_(after) {}
+  void after_event(const State<D>&, const EventRecord&, const EngineCounters& c) override { events_ = c.events; }
+  bool checkpoint_due() override { return state.empty() && events_ >= after_; }
+  void on_checkpoint(const State<D>& s, const EngineCounters&, const std::string& engine_state) override {
+    state = StateCodec<D>::encode(s);
+    engine = engine_state;
+  }
+  std::string state, engine;
+
+ private:
+  std::int64_t after_;
+  std::int64_t events_ = 0;
+};
+
+// Runs `config` to the end uninterrupted, then again saved at the first checkpoint point
+// after each fraction of its events and finished by a new engine resumed from the saved
+// bytes: the final states must be equal bit for bit, and so must the counters.
+template <int D>
+void expect_resumed_runs_identical(const Config& given, std::vector<double> fractions) {
+  State<D> reference = make_initial_state<D>(given);
+  const Config c = resolve_defaults(given, reference);
+  RunObserver<D> none;
+  const RunResult whole = make_engine<D>(c)->run(reference, stop_criteria(c), none);
+  for (double f : fractions) {
+    const auto after = static_cast<std::int64_t>(f * static_cast<double>(whole.counters.events));
+    SCOPED_TRACE("saved after " + std::to_string(after) + " of " + std::to_string(whole.counters.events) + " events");
+    State<D> first = make_initial_state<D>(given);
+    SaveOnce<D> saver(after);
+    make_engine<D>(c)->run(first, stop_criteria(c), saver);
+    ASSERT_FALSE(saver.state.empty());
+    State<D> resumed = StateCodec<D>::decode(saver.state);
+    std::unique_ptr<Engine<D>> engine = make_engine<D>(c);
+    engine->resume_from(resumed, saver.engine);
+    const RunResult rest = engine->run(resumed, stop_criteria(c), none);
+
+    EXPECT_EQ(state_csv_text(resumed), state_csv_text(reference));
+    EXPECT_EQ(resumed.time, reference.time);
+    EXPECT_EQ(rest.reason, whole.reason);
+    EXPECT_EQ(rest.counters.events, whole.counters.events);
+    EXPECT_EQ(rest.counters.merges, whole.counters.merges);
+    EXPECT_EQ(rest.counters.pair_predictions, whole.counters.pair_predictions);
+    EXPECT_EQ(rest.counters.queue_peak, whole.counters.queue_peak);
+    EXPECT_EQ(rest.counters.daha_iterations, whole.counters.daha_iterations);
+  }
+}
+
+// The event-driven engines can save every 256 events (event_loop.hpp).
+TEST(Checkpoint, EventDrivenResumesBitForBitFromAnyPoint2DWalls) {
+  expect_resumed_runs_identical<2>(small_config(2, 1500, 0.2, Boundary::walls, 5), {0.0, 0.3, 0.6, 0.85});
+}
+
+TEST(Checkpoint, EventDrivenResumesBitForBit3DPeriodicWithBounces) {
+  Config c = small_config(3, 300, 0.15, Boundary::periodic, 6);
+  c.collision.outcome = CollisionOutcome::bounce;
+  c.collision.restitution = 0.9;
+  c.stop.time = 20.0;
+  expect_resumed_runs_identical<3>(c, {0.2, 0.7});
+}
+
+TEST(Checkpoint, NaiveEventDrivenResumesBitForBit) {
+  Config c = small_config(2, 60, 0.2, Boundary::walls, 7);
+  c.engine.kind = EngineKind::ed_naive;
+  c.collision.outcome = CollisionOutcome::bounce;  // enough events to pass 256
+  c.stop.time = 30.0;
+  expect_resumed_runs_identical<2>(c, {0.5});
+}
+
+// The time-stepping engine can save between any two steps. On one thread: at this size
+// threads only wait for each other on a busy machine (the command-line test below resumes
+// a run on the default number of threads).
+TEST(Checkpoint, TimeSteppingResumesBitForBitEveryModel) {
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(1);
+  for (TsModel model : {TsModel::rigid, TsModel::almost_rigid, TsModel::non_rigid}) {
+    Config c = small_config(2, 100, 0.2, Boundary::walls, 8);
+    c.engine.kind = EngineKind::ts;
+    c.ts.model = model;
+    c.stop.clusters = 40;
+    expect_resumed_runs_identical<2>(c, {0.1, 0.6});
+  }
+  Config c = small_config(3, 150, 0.2, Boundary::periodic, 9);
+  c.engine.kind = EngineKind::ts;
+  c.stop.clusters = 20;
+  expect_resumed_runs_identical<3>(c, {0.3});
+  omp_set_num_threads(threads);
+}
+
+TEST(Checkpoint, StateRoundTripsExactly) {
+  State<3> s = make_initial_state<3>(small_config(3, 200, 0.2, Boundary::periodic, 3));
+  RunObserver<3> none;
+  make_event_driven_engine<3>({})->run(s, {.clusters = 60}, none);
+  const std::string bytes = StateCodec<3>::encode(s);
+  const State<3> back = StateCodec<3>::decode(bytes);
+  EXPECT_EQ(StateCodec<3>::encode(back), bytes);
+  EXPECT_EQ(back.alive_clusters(), s.alive_clusters());
+  EXPECT_EQ(back.running_kinetic_energy(), s.running_kinetic_energy());
+  EXPECT_EQ(back.pinnings(), s.pinnings());
+}
+
+// An engine refuses saved bytes that do not fit the state it is to continue.
+TEST(Checkpoint, EngineRefusesBytesOfAnotherRun) {
+  const Config c = small_config(2, 100, 0.2, Boundary::walls, 2);
+  State<2> s = make_initial_state<2>(c);
+  SaveOnce<2> saver(0);
+  make_engine<2>(resolve_defaults(c, s))->run(s, {}, saver);
+  State<2> other = make_initial_state<2>(small_config(2, 90, 0.2, Boundary::walls, 2));
+  EXPECT_THROW(make_engine<2>(resolve_defaults(c, other))->resume_from(other, saver.engine), CheckpointError);
+  State<2> same = StateCodec<2>::decode(saver.state);
+  const std::string cut = saver.engine.substr(0, saver.engine.size() / 2);
+  EXPECT_THROW(make_engine<2>(resolve_defaults(c, same))->resume_from(same, cut), CheckpointError);
+  EXPECT_THROW(StateCodec<2>::decode(saver.state.substr(0, saver.state.size() - 1)), CheckpointError);
+  EXPECT_THROW(StateCodec<3>::decode(saver.state), CheckpointError);  // a 2D state read as 3D
+}
+
+// ---- the file format -------------------------------------------------------------------
+
+Checkpoint small_checkpoint() {
+  Checkpoint c;
+  c.program_version = "test";
+  c.dimension = 2;
+  c.engine = "ed";
+  c.config_toml = "[system]\nn = 10\n";
+  c.wall_seconds = 1.5;
+  c.state = std::string(300, 'x');
+  c.engine_state = "engine";
+  return c;
+}
+
+TEST(CheckpointFile, RoundTrips) {
+  const Checkpoint c = small_checkpoint();
+  const Checkpoint back = decode_checkpoint(encode_checkpoint(c), "f");
+  EXPECT_EQ(back.config_toml, c.config_toml);
+  EXPECT_EQ(back.state, c.state);
+  EXPECT_EQ(back.engine_state, c.engine_state);
+  EXPECT_EQ(back.wall_seconds, c.wall_seconds);
+}
+
+// Every prefix of a checkpoint (a write cut short), every single flipped bit, another
+// format version and a foreign file: each is one CheckpointError saying which.
+TEST(CheckpointFile, RefusesTruncatedCorruptForeignAndOldFiles) {
+  const std::string good = encode_checkpoint(small_checkpoint());
+  for (std::size_t n = 0; n < good.size(); ++n) EXPECT_THROW(decode_checkpoint(good.substr(0, n), "f"), CheckpointError) << n;
+  for (std::size_t byte = 0; byte < good.size(); ++byte) {
+    std::string bad = good;
+    bad[byte] = static_cast<char>(bad[byte] ^ (1 << (byte % 8)));
+    EXPECT_THROW(decode_checkpoint(bad, "f"), CheckpointError) << byte;
+  }
+  auto message = [](const std::string& bytes) {
+    try {
+      decode_checkpoint(bytes, "run/checkpoint.bin");
+    } catch (const CheckpointError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_CONTAINS(message("time,clusters\n0,10\n"), "run/checkpoint.bin: not a ballagg checkpoint");
+  EXPECT_CONTAINS(message(good.substr(0, good.size() - 10)), "truncated");
+  std::string old = good;
+  old[16] = 0;  // format version 0 (little-endian low byte of 1)
+  EXPECT_CONTAINS(message(old), "checkpoint format 0, this ballagg reads format 1 only");
+  std::string flipped = good;
+  flipped[good.size() / 2] ^= 0x10;
+  EXPECT_CONTAINS(message(flipped), "corrupt (checksum mismatch)");
+}
+
+// ---- the command line: signals, SIGKILL, resume ---------------------------------------
+
+// Starts the ballagg binary with `args` (stdout and stderr to files in `dir`).
+pid_t spawn_ballagg(const std::vector<std::string>& args, const std::filesystem::path& log) {
+  std::vector<std::string> all{BALLAGG_BINARY};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&files, STDOUT_FILENO, STDERR_FILENO);
+  pid_t pid = -1;
+  EXPECT_EQ(posix_spawn(&pid, all[0].c_str(), &files, nullptr, argv.data(), environ), 0);
+  posix_spawn_file_actions_destroy(&files);
+  return pid;
+}
+
+int wait_status(pid_t pid) {
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+int run_ballagg(const std::vector<std::string>& args, const std::filesystem::path& log) {
+  return wait_status(spawn_ballagg(args, log));
+}
+
+// Starts a run, waits for its first checkpoint, lets it go on for a random while and
+// sends `signal`. Returns false if the run finished first.
+bool interrupt_run(const std::vector<std::string>& args, const std::filesystem::path& dir, int signal,
+                   std::mt19937& random, int* status = nullptr) {
+  const pid_t pid = spawn_ballagg(args, dir.string() + ".log");
+  const auto checkpoint = dir / kCheckpointFile;
+  for (int k = 0; k < 4000 && !std::filesystem::exists(checkpoint); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  const int delay_ms = std::uniform_int_distribution<int>(0, 150)(random);
+  std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
+  const bool finished = std::filesystem::exists(dir / "summary.json");
+  kill(pid, signal);
+  const int s = wait_status(pid);
+  if (status) *status = s;
+  return !finished && !std::filesystem::exists(dir / "summary.json");
+}
+
+std::vector<std::string> run_args(const std::string& out, std::vector<std::string> sets) {
+  std::vector<std::string> args{"run", "--quiet", "--out", out, "--set", "output.checkpoint_every=0.03"};
+  for (const std::string& s : sets) {
+    args.push_back("--set");
+    args.push_back(s);
+  }
+  return args;
+}
+
+void expect_same_h5md_frames(const std::filesystem::path& a, const std::filesystem::path& b) {
+  const H5mdReader<2> x(a.string()), y(b.string());
+  ASSERT_EQ(x.frames(), y.frames());
+  for (int k = 0; k < x.frames(); ++k) {
+    const Frame<2> f = x.frame(k), g = y.frame(k);
+    EXPECT_EQ(f.time, g.time);
+    EXPECT_EQ(f.step, g.step);
+    EXPECT_EQ(f.position, g.position) << "frame " << k;
+    EXPECT_EQ(f.velocity, g.velocity) << "frame " << k;
+    EXPECT_EQ(f.cluster, g.cluster) << "frame " << k;
+  }
+}
+
+// The test: SIGKILL at a random moment (after the first checkpoint), resume, and
+// every output file as the uninterrupted run's, byte for byte (the H5MD trajectory frame
+// by frame). The random delay is printed, so a failure can be replayed.
+void expect_killed_run_resumes_identically(const std::vector<std::string>& sets, bool trajectory) {
+  TempDir tmp;
+  std::random_device seed;
+  const unsigned s = seed();
+  SCOPED_TRACE("delay seed " + std::to_string(s));
+  std::mt19937 random(s);
+  const std::string ref = (tmp / "reference").string(), run = (tmp / "killed").string();
+  ASSERT_EQ(run_ballagg(run_args(ref, sets), tmp / "reference.log"), 0) << read_file(tmp / "reference.log");
+  bool killed = false;
+  for (int attempt = 0; attempt < 3 && !killed; ++attempt) {
+    std::filesystem::remove_all(run);
+    killed = interrupt_run(run_args(run, sets), run, SIGKILL, random);
+  }
+  ASSERT_TRUE(killed) << "the run always finished before it could be killed";
+  ASSERT_EQ(run_ballagg({"run", "--quiet", "--resume", run}, tmp / "resume.log"), 0) << read_file(tmp / "resume.log");
+  std::vector<std::string> files{"final.csv", "timeseries.csv", "final.xyz", "config.toml"};
+  if (trajectory) files.push_back("trajectory.xyz");
+  for (const std::string& f : files)
+    EXPECT_TRUE(read_file(tmp / "reference" / f) == read_file(tmp / "killed" / f)) << f << " differs";
+  if (trajectory) expect_same_h5md_frames(tmp / "reference" / "trajectory.h5md", tmp / "killed" / "trajectory.h5md");
+  EXPECT_FALSE(std::filesystem::exists(tmp / "killed" / kCheckpointFile));  // finished: removed
+  EXPECT_FALSE(std::filesystem::exists(tmp / "killed" / ".trajectory.h5md.tmp"));
+}
+
+TEST(CheckpointCli, EventDrivenKilledAtRandomResumesIdentically) {
+  expect_killed_run_resumes_identically({"system.n=10000", "output.snapshot_every=25",
+                                         "output.snapshot_formats=[\"h5md\", \"xyz\"]"}, true);
+}
+
+TEST(CheckpointCli, TimeSteppingKilledAtRandomResumesIdentically) {
+  expect_killed_run_resumes_identically({"engine.kind=\"ts\"", "system.n=1500", "stop.clusters=20",
+                                         "output.snapshot_every=5", "output.snapshot_formats=[\"h5md\", \"xyz\"]"},
+                                        true);
+}
+
+// SIGTERM (and SIGINT) write a checkpoint, say how to resume, exit with 128 + signal.
+TEST(CheckpointCli, SigtermWritesCheckpointAndSaysHowToResume) {
+  TempDir tmp;
+  const std::string run = (tmp / "run").string();
+  std::vector<std::string> args{"run", "--quiet", "--out", run, "--set", "system.n=30000"};
+  // checkpoint_every = 0: the only checkpoint is the one the signal asks for.
+  args.insert(args.end(), {"--set", "output.checkpoint_every=0"});
+  const pid_t pid = spawn_ballagg(args, tmp / "run.log");
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  kill(pid, SIGTERM);
+  const int status = wait_status(pid);
+  const std::string log = read_file(tmp / "run.log");
+  if (std::filesystem::exists(tmp / "run" / "summary.json")) GTEST_SKIP() << "finished before the signal";
+  EXPECT_EQ(status, 128 + SIGTERM) << log;
+  EXPECT_CONTAINS(log, "interrupted by SIGTERM");
+  EXPECT_CONTAINS(log, "ballagg run --resume " + run);
+  ASSERT_TRUE(std::filesystem::exists(tmp / "run" / kCheckpointFile));
+  ASSERT_EQ(run_ballagg({"run", "--quiet", "--resume", run}, tmp / "resume.log"), 0) << read_file(tmp / "resume.log");
+  ASSERT_EQ(run_ballagg({"run", "--quiet", "--out", (tmp / "ref").string(), "--set", "system.n=30000", "--set",
+                         "output.checkpoint_every=0"}, tmp / "ref.log"), 0);
+  EXPECT_TRUE(read_file(tmp / "ref" / "final.csv") == read_file(tmp / "run" / "final.csv"));
+}
+
+// A bad checkpoint on the command line: one line, exit status 2, nothing changed.
+TEST(CheckpointCli, BadCheckpointIsOneLineAndExitStatus2) {
+  TempDir tmp;
+  std::filesystem::create_directories(tmp / "run");
+  auto resume_message = [&](const std::string& content) {
+    tmp.write("run/checkpoint.bin", content);
+    EXPECT_EQ(run_ballagg({"run", "--resume", (tmp / "run").string()}, tmp / "log"), 2);
+    return read_file(tmp / "log");
+  };
+  EXPECT_CONTAINS(resume_message("[system]\nn = 3\n"), "checkpoint.bin: not a ballagg checkpoint");
+  const std::string good = encode_checkpoint(small_checkpoint());
+  const std::string cut = resume_message(good.substr(0, good.size() / 2));
+  EXPECT_CONTAINS(cut, "truncated");
+  EXPECT_EQ(std::count(cut.begin(), cut.end(), '\n'), 1) << cut;
+  std::filesystem::remove(tmp / "run" / "checkpoint.bin");
+  EXPECT_EQ(run_ballagg({"run", "--resume", (tmp / "run").string()}, tmp / "log"), 2);
+  EXPECT_CONTAINS(read_file(tmp / "log"), "no checkpoint to resume from");
+  EXPECT_EQ(run_ballagg({"run", "--resume", (tmp / "run").string(), "--seed", "3"}, tmp / "log"), 2);
+}
+
+}  // namespace
+}  // namespace ballagg

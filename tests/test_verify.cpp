@@ -1,0 +1,142 @@
+// `ballagg verify`: it passes on real runs of every engine and catches doctored files (an
+// overlap, a cluster in two pieces, a wrong summary count, momentum from nowhere).
+#include <algorithm>
+#include <map>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "cli_support.hpp"
+#include "support.hpp"
+
+namespace ballagg {
+namespace {
+
+using testing::Outcome;
+using testing::slurp;
+using testing::TempDir;
+
+class Verify : public ::testing::Test {
+ protected:
+  Outcome ballagg(const std::vector<std::string>& args) { return testing::run_ballagg(args, tmp_.path()); }
+  std::string run(const std::string& name, std::vector<std::string> sets) {
+    const std::string out = (tmp_ / name).string();
+    std::vector<std::string> args{"run", "--quiet", "--out", out};
+    for (const std::string& s : sets) args.insert(args.end(), {"--set", s});
+    const Outcome o = ballagg(args);
+    EXPECT_EQ(o.status, 0) << o.err;
+    return out;
+  }
+  void expect_verified(const std::string& dir) {
+    const Outcome o = ballagg({"verify", dir});
+    EXPECT_EQ(o.status, 0) << o.out << o.err;
+    EXPECT_CONTAINS(o.out, "checks hold");
+  }
+  // Violations: status 1, and a line starting with `what`.
+  void expect_violation(const std::string& dir, const std::string& what) {
+    const Outcome o = ballagg({"verify", dir});
+    EXPECT_EQ(o.status, 1) << o.out << o.err;
+    EXPECT_CONTAINS("\n" + o.out, "\n" + what);
+  }
+  TempDir tmp_;
+};
+
+// final.csv as rows of fields (header first).
+std::vector<std::vector<std::string>> rows_of(const std::string& path) {
+  std::vector<std::vector<std::string>> rows;
+  std::istringstream in(slurp(path));
+  for (std::string line; std::getline(in, line);) {
+    std::vector<std::string> row;
+    std::istringstream s(line);
+    for (std::string f; std::getline(s, f, ',');) row.push_back(f);
+    rows.push_back(row);
+  }
+  return rows;
+}
+void write_rows(const std::string& path, const std::vector<std::vector<std::string>>& rows) {
+  std::string text;
+  for (const auto& r : rows) {
+    for (std::size_t k = 0; k < r.size(); ++k) text += (k ? "," : "") + r[k];
+    text += "\n";
+  }
+  testing::write(path, text);
+}
+
+TEST_F(Verify, PassesOnRunsOfEveryEngine) {
+  expect_verified(run("ed2d", {"system.n=600"}));
+  expect_verified(run("ed3d", {"system.dimension=3", "system.n=500", "system.boundary=\"periodic\""}));
+  expect_verified(run("gas", {"system.n=400", "collision.outcome=\"bounce\"", "collision.restitution=0.7", "stop.time=5"}));
+  expect_verified(run("naive", {"system.n=80", "engine.kind=\"ed-naive\""}));
+  expect_verified(run("ts", {"system.n=400", "engine.kind=\"ts\""}));
+  expect_verified(run("ts-almost", {"system.n=150", "engine.kind=\"ts\"", "ts.model=\"almost-rigid\"", "stop.clusters=40"}));
+}
+
+// Columns of final.csv in 2D: x, y, vx, vy, radius, mass, cluster.
+TEST_F(Verify, CatchesAnOverlap) {
+  const std::string dir = run("half", {"system.n=400", "stop.clusters=200"});
+  auto rows = rows_of(dir + "/final.csv");
+  // Sphere 2 put almost on top of sphere 1 (a different cluster or the same: an overlap).
+  const double x = std::stod(rows[1][0]) + 0.01;
+  rows[2][0] = fmt::format("{}", x);
+  rows[2][1] = rows[1][1];
+  write_rows(dir + "/final.csv", rows);
+  expect_violation(dir, "overlap: 1 pair(s) overlap");
+}
+
+TEST_F(Verify, CatchesAClusterInTwoPieces) {
+  const std::string dir = run("half", {"system.n=400", "stop.clusters=300"});
+  auto rows = rows_of(dir + "/final.csv");
+  // Two spheres alone in their clusters, far apart, given one label (and one velocity):
+  // a cluster of two spheres that do not touch.
+  std::map<std::string, int> size;
+  for (std::size_t k = 1; k < rows.size(); ++k) ++size[rows[k][6]];
+  std::vector<std::size_t> alone;
+  for (std::size_t k = 1; k < rows.size(); ++k)
+    if (size[rows[k][6]] == 1) alone.push_back(k);
+  ASSERT_GE(alone.size(), 2u);
+  const std::size_t a = alone.front(), b = alone.back();
+  rows[b][6] = rows[a][6];
+  rows[b][2] = rows[a][2];
+  rows[b][3] = rows[a][3];
+  write_rows(dir + "/final.csv", rows);
+  expect_violation(dir, "connected clusters: 1 cluster(s) whose spheres do not form one contact graph");
+}
+
+TEST_F(Verify, CatchesAWrongSummaryCount) {
+  const std::string dir = run("run", {"system.n=300", "stop.clusters=100"});
+  nlohmann::ordered_json summary = nlohmann::ordered_json::parse(slurp(dir + "/summary.json"));
+  summary["n_clusters"] = summary["n_clusters"].get<int>() + 1;
+  testing::write(dir + "/summary.json", summary.dump(2));
+  expect_violation(dir, "summary: n_clusters = 101, final.csv has 100 clusters");
+}
+
+// Momentum from nowhere: a cluster's velocity changed in final.csv and in the summary's
+// final momentum alike, so only the budget (initial + walls) can tell.
+TEST_F(Verify, CatchesMomentumNotAccountedFor) {
+  const std::string dir = run("run", {"system.n=300", "system.boundary=\"periodic\"", "stop.clusters=299"});
+  auto rows = rows_of(dir + "/final.csv");
+  nlohmann::ordered_json summary = nlohmann::ordered_json::parse(slurp(dir + "/summary.json"));
+  std::map<std::string, int> size;
+  for (std::size_t k = 1; k < rows.size(); ++k) ++size[rows[k][6]];
+  for (std::size_t k = 1; k < rows.size(); ++k)
+    if (size[rows[k][6]] == 1) {
+      const double vx = std::stod(rows[k][2]);
+      rows[k][2] = fmt::format("{}", vx * 0.5);  // energy falls: only momentum is wrong
+      summary["momentum_final"][0] = summary["momentum_final"][0].get<double>() - 0.5 * vx;
+      summary["kinetic_energy_final"] = summary["kinetic_energy_final"].get<double>() - 0.375 * vx * vx;
+      break;
+    }
+  write_rows(dir + "/final.csv", rows);
+  testing::write(dir + "/summary.json", summary.dump(2));
+  expect_violation(dir, "momentum budget: final - initial - wall impulse");
+}
+
+TEST_F(Verify, NotARunDirectoryIsBadInput) {
+  const Outcome o = ballagg({"verify", (tmp_ / "nothing").string()});
+  EXPECT_EQ(o.status, 2);
+  EXPECT_CONTAINS(o.err, "not a run directory");
+}
+
+}  // namespace
+}  // namespace ballagg
