@@ -12,6 +12,7 @@
 // an event costs O(1) there, where a heap of clusters cost O(log M) scattered comparisons.
 #include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "ballagg/core/small_vector.hpp"
@@ -85,6 +86,10 @@ class EventCalendar {
 
   bool empty() const { return order_.empty(); }
   std::size_t size() const { return stored_; }
+  // The time of the earliest event filed (possibly stale), or +inf.
+  double earliest_time() {
+    return order_.empty() ? std::numeric_limits<double>::infinity() : filed_[order_.top()].front().time;
+  }
 
   // Removes and returns the earliest event (possibly stale). Requires !empty().
   Event pop() {

@@ -87,7 +87,8 @@ class EventDrivenCore {
       case EventKind::collision: return collide(e.a, e.b, e.time);
       case EventKind::wall: return reflect(e.a, e.b, e.time);
       case EventKind::list_rebuild: return rebuild(e.a, e.time);
-      case EventKind::time_step: break;  // never queued here: time stepping only
+      case EventKind::time_step: break;       // never queued here: time stepping only
+      case EventKind::contact_search: break;  // never queued here: rigid bodies only
     }
     return {};
   }

@@ -13,12 +13,14 @@
 namespace ballagg {
 
 // True when no two clusters can ever meet again: all move with the same velocity in a
-// periodic box (or all are at rest). Walls change velocities, so there only rest counts.
+// periodic box (or all are at rest), and none spins. Walls change velocities, so there
+// only rest counts.
 template <int D>
 bool collisions_impossible(const State<D>& s) {
   const Vec<D>* first = nullptr;
   for (int c : s.alive_clusters()) {
     const Cluster<D>& k = s.clusters[c];
+    if (!s.spin.empty() && k.size() > 1 && s.spin[c].angular_momentum != Spin<D>::Zero()) return false;
     if (!s.box.periodic() && k.velocity != Vec<D>::Zero()) return false;
     if (first == nullptr) first = &k.velocity;
     else if (k.velocity != *first) return false;
@@ -42,6 +44,9 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
   std::int64_t last_collision_event = 0;
   while (true) {
     if (s.n_clusters() <= stop.clusters) { result.reason = StopReason::clusters; break; }
+    if constexpr (requires { core.stop_reason(); }) {  // criteria only some engines know
+      if (const std::optional<StopReason> r = core.stop_reason()) { result.reason = *r; break; }
+    }
     if (count.events % kClockEvery == 0 && elapsed() >= stop.wall_seconds) {
       result.reason = StopReason::wall_seconds;
       break;
