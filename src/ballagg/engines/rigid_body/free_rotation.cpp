@@ -37,17 +37,17 @@ Rotation<3> euler_rotation(double phi, const Vec<3>& n) {
   const double st = std::hypot(n[0], n[1]), ct = n[2];
   const double sp = st > 0.0 ? n[0] / st : 0.0, cp = st > 0.0 ? n[1] / st : 1.0;
   const double sf = std::sin(phi), cf = std::cos(phi);
-  Rotation<3> rz_phi, rx, rz_psi;
-  rz_phi << cf, -sf, 0, sf, cf, 0, 0, 0, 1;
-  rx << 1, 0, 0, 0, ct, -st, 0, st, ct;
-  rz_psi << cp, -sp, 0, sp, cp, 0, 0, 0, 1;
-  return rz_phi * rx * rz_psi;
+  Rotation<3> r;
+  r << cf * cp - sf * ct * sp, -cf * sp - sf * ct * cp, sf * st,  //
+      sf * cp + cf * ct * sp, -sf * sp + cf * ct * cp, -cf * st,  //
+      st * sp, st * cp, ct;
+  return r;
 }
 
 }  // namespace
 
 FreeRotation<3>::FreeRotation(const Vec<3>& moments, const Eigen::Quaterniond& orientation, const Spin<3>& h,
-                              double t0)
+                              double t0, const Rotation<3>& frame)
     : moments_(moments), r0_(orientation.normalized().toRotationMatrix()), h_(h), t0_(t0) {
   // Order the principal axes by moment; the ordering is a proper rotation S.
   std::array<int, 3> p{0, 1, 2};
@@ -63,6 +63,7 @@ FreeRotation<3>::FreeRotation(const Vec<3>& moments, const Eigen::Quaterniond& o
   for (int a = 0; a < 3; ++a) moments_[p[a]] = sorted[a];
 
   const Vec<3> m = s * r0_.transpose() * h;  // body-frame angular momentum, ordered axes
+  own0_ = r0_ * frame.transpose();
   energy_ = 0.5 * m.cwiseProduct(m).cwiseQuotient(sorted).sum();
   if (m.squaredNorm() == 0.0) return;  // at rest
   const double e3 = (m.cwiseProduct(m).cwiseProduct(Vec<3>::Constant(sorted[2]).cwiseQuotient(sorted) - Vec<3>::Ones())).sum();
@@ -106,6 +107,7 @@ FreeRotation<3>::FreeRotation(const Vec<3>& moments, const Eigen::Quaterniond& o
   const Rotation<3> b0 = euler_rotation(0.0, amplitude_.cwiseProduct(Vec<3>(cn, sn, dn)).normalized());
   right_ = f * s;
   left_ = r0_ * right_.transpose() * b0.transpose();
+  right_ = right_ * frame.transpose();
   max_speed_ = amplitude_.cwiseQuotient(j_).norm();
   slow_nutation_ = std::abs(lambda_) < kSlowNutation * h_norm_ / j_.minCoeff();
   max_acceleration_ = h_norm_ * max_speed_ / j_.minCoeff();
@@ -143,10 +145,10 @@ double FreeRotation<3>::phase_increment(double du) const {
 FreeRotation<3>::Pose FreeRotation<3>::at(double t) const {
   switch (kind_) {
     case Kind::rest:
-      return {r0_, Spin<3>::Zero()};
+      return {own0_, Spin<3>::Zero()};
     case Kind::uniform: {
       const double speed = omega_.norm();
-      return {Eigen::AngleAxisd(speed * (t - t0_), omega_ / speed).toRotationMatrix() * r0_, omega_};
+      return {Eigen::AngleAxisd(speed * (t - t0_), omega_ / speed).toRotationMatrix() * own0_, omega_};
     }
     case Kind::elliptic:
       break;
@@ -159,8 +161,14 @@ FreeRotation<3>::Pose FreeRotation<3>::at(double t) const {
   // (proportional to 1 / lambda) then magnifies: where the nutation is slow (lambda
   // small against the spin) and du short, it is integrated directly.
   double increment;
-  if (n_ == 0.0) {  // symmetric top (or k = 0): the integrand is 1
-    phase_integral(u0_ + du, &sn, &cn, &dn);
+  if (n_ == 0.0) {  // symmetric top (k = 0): sn, cn = sin, cos and the integrand is 1
+    if (k_ == 0.0) {
+      sn = std::sin(u0_ + du);
+      cn = std::cos(u0_ + du);
+      dn = 1.0;
+    } else {
+      phase_integral(u0_ + du, &sn, &cn, &dn);
+    }
     increment = du;
   } else if (slow_nutation_ && std::abs(du) <= 1.0) {
     phase_integral(u0_ + du, &sn, &cn, &dn);

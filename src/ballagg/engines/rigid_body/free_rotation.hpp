@@ -45,8 +45,8 @@ inline constexpr double kSlowNutation = 1e-6;
 template <>
 class FreeRotation<3> {
  public:
-  // Where a body is at time t: its orientation (space <- principal frame) and its angular
-  // velocity in the space frame.
+  // Where a body is at time t: its orientation (space <- the frame given at construction)
+  // and its angular velocity in the space frame.
   struct Pose {
     Rotation<3> rotation;
     Spin<3> angular_velocity;
@@ -54,8 +54,11 @@ class FreeRotation<3> {
 
   FreeRotation() = default;  // at rest, principal frame = space frame
   // moments: principal moments I_1, I_2, I_3 > 0 (any order); orientation: space <-
-  // principal frame at time t0; h: spin angular momentum about the centre of mass (space).
-  FreeRotation(const Vec<3>& moments, const Eigen::Quaterniond& orientation, const Spin<3>& h, double t0);
+  // principal frame at time t0; h: spin angular momentum about the centre of mass (space);
+  // frame: the principal axes in the frame whose orientation at() returns (that frame <-
+  // principal frame; the principal frame itself by default).
+  FreeRotation(const Vec<3>& moments, const Eigen::Quaterniond& orientation, const Spin<3>& h, double t0,
+               const Rotation<3>& frame = Rotation<3>::Identity());
 
   Pose at(double t) const;
   Rotation<3> rotation_at(double t) const { return at(t).rotation; }
@@ -77,7 +80,8 @@ class FreeRotation<3> {
 
   Kind kind_ = Kind::rest;
   Vec<3> moments_ = Vec<3>::Ones();
-  Rotation<3> r0_ = Rotation<3>::Identity();  // orientation at t0
+  Rotation<3> r0_ = Rotation<3>::Identity();    // orientation at t0 (space <- principal)
+  Rotation<3> own0_ = Rotation<3>::Identity();  // the same, of the output frame
   Spin<3> h_ = Spin<3>::Zero();
   double t0_ = 0.0;
   double energy_ = 0.0;
@@ -88,7 +92,7 @@ class FreeRotation<3> {
   Spin<3> omega_ = Spin<3>::Zero();
   // Elliptic motion: orientation(t) = left_ * Rz(phi) Rx(theta) Rz(psi) * right_.
   Rotation<3> left_ = Rotation<3>::Identity();   // h-frame -> space
-  Rotation<3> right_ = Rotation<3>::Identity();  // principal -> ordered body frame
+  Rotation<3> right_ = Rotation<3>::Identity();  // output frame -> ordered body frame
   Vec<3> j_ = Vec<3>::Ones();                    // moments in the ordered body frame
   Vec<3> amplitude_ = Vec<3>::Zero();            // A_cn, A_sn, s A_dn
   double h_norm_ = 0.0;                          // M = |h|

@@ -8,12 +8,14 @@
 namespace ballagg {
 namespace {
 
+// The free rotation of a body whose own frame holds the principal axes `principal`; it
+// reports the orientation of the own frame.
 FreeRotation<3> free_rotation(const Spin<3>& moments, const Rotation<3>& space_from_principal, const Spin<3>& h,
-                              double t) {
-  return FreeRotation<3>(moments, Eigen::Quaterniond(space_from_principal), h, t);
+                              double t, const Rotation<3>& principal) {
+  return FreeRotation<3>(moments, Eigen::Quaterniond(space_from_principal), h, t, principal);
 }
 FreeRotation<2> free_rotation(const Spin<2>& moments, const Rotation<2>& space_from_principal, const Spin<2>& h,
-                              double t) {
+                              double t, const Rotation<2>&) {
   return FreeRotation<2>(moments[0], std::atan2(space_from_principal(1, 0), space_from_principal(0, 0)), h, t);
 }
 
@@ -51,7 +53,7 @@ void RigidBodies<D>::build(State<D>& s) {
     // The own frame is the space frame now: the spin angular momentum is I omega.
     const Spin<D> omega = spinning ? s.spin[c].angular_velocity : Spin<D>::Zero();
     const Spin<D> h = p.inertia * omega;
-    b.rotation = free_rotation(axes.moments, axes.axes, h, t);
+    b.rotation = free_rotation(axes.moments, axes.axes, h, t, axes.axes);
     const Vec<D> centre = s.origin(c, t) + p.centre;
     s.set_rigid_motion(c, centre, k.velocity, t);
     s.spin[c].angular_momentum = h;
@@ -62,9 +64,8 @@ void RigidBodies<D>::build(State<D>& s) {
 
 template <int D>
 typename RigidBodies<D>::Pose RigidBodies<D>::pose(int c, double t) const {
-  const Body& b = body_[c];
-  const auto f = b.rotation.at(t);
-  return {Rotation<D>(f.rotation * b.principal.transpose()), f.angular_velocity};
+  const auto f = body_[c].rotation.at(t);
+  return {f.rotation, f.angular_velocity};
 }
 
 template <int D>
@@ -84,7 +85,7 @@ template <int D>
 void RigidBodies<D>::set_rotation(State<D>& s, int c, const Rotation<D>& space_from_principal, const Spin<D>& momentum,
                                   double t) {
   Body& b = body_[c];
-  b.rotation = free_rotation(b.rotation.moments(), space_from_principal, momentum, t);
+  b.rotation = free_rotation(b.rotation.moments(), space_from_principal, momentum, t, b.principal);
   s.spin[c] = {b.rotation.at(t).angular_velocity, momentum};
 }
 
@@ -129,7 +130,7 @@ int RigidBodies<D>::stick(State<D>& s, int i, int j, double t) {
   ka.inertia = joined.inertia;
   const PrincipalAxes<D> axes = principal_axes(joined.inertia);
   ka.principal = axes.axes;
-  ka.rotation = free_rotation(axes.moments, Rotation<D>(pa.rotation * axes.axes), momentum.spin_momentum, t);
+  ka.rotation = free_rotation(axes.moments, Rotation<D>(pa.rotation * axes.axes), momentum.spin_momentum, t, axes.axes);
   s.join_rigid(a, b, momentum.centre, momentum.velocity, t);
   s.spin[a] = {ka.rotation.at(t).angular_velocity, momentum.spin_momentum};
   if (ka.reach > kBoundSlack * ka.exact_reach || ka.radius > kBoundSlack * ka.exact_radius) refresh_bounds(s, a);
@@ -157,7 +158,8 @@ int RigidBodies<D>::coalesce(State<D>& s, int i, int j, double r, double speed, 
   Body& k = body_[a];
   k = Body{};
   k.inertia.diagonal().array() = sphere_moment<D>(s.clusters[a].mass, r);
-  k.rotation = free_rotation(Spin<D>(k.inertia.diagonal()), Rotation<D>::Identity(), momentum.spin_momentum, t);
+  k.rotation = free_rotation(Spin<D>(k.inertia.diagonal()), Rotation<D>::Identity(), momentum.spin_momentum, t,
+                             Rotation<D>::Identity());
   k.radius = k.exact_radius = r;
   s.spin[a] = {k.rotation.at(t).angular_velocity, momentum.spin_momentum};
   body_[b] = Body{};
@@ -191,7 +193,7 @@ std::vector<std::int32_t> RigidBodies<D>::fragment(State<D>& s, int c, double re
     coord_[i].setZero();
     // Each sphere keeps the body's spin; its velocity is the rigid one plus H r.
     const Spin<D> h = moment * p.angular_velocity;
-    piece.rotation = free_rotation(Spin<D>(piece.inertia.diagonal()), Rotation<D>::Identity(), h, t);
+    piece.rotation = free_rotation(Spin<D>(piece.inertia.diagonal()), Rotation<D>::Identity(), h, t, Rotation<D>::Identity());
     const Vec<D> v = velocity + cross(p.angular_velocity, lever[k]) + expansion * lever[k];
     s.set_rigid_motion(id, centre + lever[k], v, t);
     s.spin[id] = {p.angular_velocity, h};

@@ -118,7 +118,7 @@ class RigidBodyCore {
 
  private:
   static double choose_skin(const State<D>& s, double requested) {
-    double skin = requested > 0.0 ? requested : default_skin(s);
+    double skin = requested > 0.0 ? requested : rigid_body_skin(s);
     if (s.box.periodic()) skin = std::min(skin, 0.99 * (0.5 * s.box.length - 2.0 * s.max_radius()) / 1.5);
     return skin;
   }
@@ -234,9 +234,18 @@ class RigidBodyCore {
       if (within_reach(i, xi, j, t)) found(j);
     });
   }
+  // Whether the pair (i, j) belongs in the lists at time t: closer than sigma + skin. A
+  // sphere of a spinning aggregate is not located (that would cost an orientation): it is
+  // within its body's drift of where it was binned, and the pair is kept unless even the
+  // nearest point of that ball is out of reach. Listing a pair that is a little farther
+  // costs a prediction; dropping one only when it is surely out of reach keeps the lists
+  // valid.
   bool within_reach(int i, const Vec<D>& xi, int j, double t) {
     const double reach = s_.spheres.radius[i] + s_.spheres.radius[j] + skin_;
-    return s_.box.separation(xi, unwrapped_position(j, t)).squaredNorm() < reach * reach;
+    const int d = body_of(j);
+    if (bodies_.translates(s_, d)) return s_.box.separation(xi, unwrapped_position(j, t)).squaredNorm() < reach * reach;
+    const double nearest = s_.box.separation(xi, grid_->binned(j)).norm() - drift(d, t);
+    return nearest < reach;
   }
 
   // Grid, lists, drifts and every prediction from scratch (start, and after each sphere
@@ -275,9 +284,28 @@ class RigidBodyCore {
     }
     for (int i : s_.clusters[c].members) grid_->move(i, s_.box.wrap(unwrapped_position(i, t)));
     reset_drift(c, t);
-    for (int i : s_.clusters[c].members)
-      for_each_foreign_near(i, t, [&](int j) { return !lists_.listed(i, j); }, [&](int j) { lists_.add_pair(i, j, cluster); });
-    predict(c);
+    // Predictions already filed stay valid (exact contact times, or searches that look at
+    // the lists when they run). The pairs that came into reach need predictions, and so
+    // do the rotating partners, whose last search may have stopped at the old expiry.
+    pairs_.clear();
+    for (int i : s_.clusters[c].members) {
+      for_each_foreign_near(i, t, [&](int j) { return !lists_.listed(i, j); }, [&](int j) {
+        lists_.add_pair(i, j, cluster);
+        pairs_.push_back({body_of(j), i, j});
+      });
+    }
+    const bool rotating = !bodies_.translates(s_, c);
+    for (int i : lists_.exposed(c))
+      for (int j : lists_.partners(i))
+        if (rotating || !bodies_.translates(s_, body_of(j))) pairs_.push_back({body_of(j), i, j});
+    std::sort(pairs_.begin(), pairs_.end());
+    pairs_.erase(std::unique(pairs_.begin(), pairs_.end()), pairs_.end());
+    batch_.clear();
+    rebuild_at_[c] = rebuild_time(c);
+    if (rebuild_at_[c] < kNever) batch_.push_back({rebuild_at_[c], c, 0, s_.clusters[c].stamp, 0, EventKind::list_rebuild});
+    predict_pairs(c, t);
+    calendar_.file(c, batch_);
+    count_.queue_peak = std::max<std::int64_t>(count_.queue_peak, calendar_.size());
     count_.rebuilt_spheres += s_.clusters[c].size();
     ++count_.list_rebuilds;
     return {.time = t, .kind = EventKind::list_rebuild, .cluster = c};
@@ -303,14 +331,19 @@ class RigidBodyCore {
       }
     }
     std::sort(pairs_.begin(), pairs_.end());
+    predict_pairs(c, now);
+    calendar_.refile(c, batch_);
+    count_.queue_peak = std::max<std::int64_t>(count_.queue_peak, calendar_.size());
+  }
+
+  // Predictions of body c with each partner body of pairs_ (sorted by partner) into batch_.
+  void predict_pairs(int c, double now) {
     for (std::size_t first = 0; first < pairs_.size();) {
       std::size_t last = first;
       while (last < pairs_.size() && pairs_[last][0] == pairs_[first][0]) ++last;
       predict_pair(c, pairs_[first][0], first, last, now);
       first = last;
     }
-    calendar_.refile(c, batch_);
-    count_.queue_peak = std::max<std::int64_t>(count_.queue_peak, calendar_.size());
   }
 
   // The next contact of bodies c and d through the listed pairs pairs_[first, last).
@@ -813,10 +846,17 @@ class RigidBodyEngine final : public Engine<D> {
 }  // namespace
 
 template <int D>
+double rigid_body_skin(const State<D>& s) {
+  return std::min(default_skin(s), kSkinDiameters * 2.0 * s.mean_radius());
+}
+
+template <int D>
 std::unique_ptr<Engine<D>> make_rigid_body_engine(const RigidBodySettings& settings) {
   return std::make_unique<RigidBodyEngine<D>>(settings);
 }
 
+template double rigid_body_skin<2>(const State<2>&);
+template double rigid_body_skin<3>(const State<3>&);
 template std::unique_ptr<Engine<2>> make_rigid_body_engine<2>(const RigidBodySettings&);
 template std::unique_ptr<Engine<3>> make_rigid_body_engine<3>(const RigidBodySettings&);
 

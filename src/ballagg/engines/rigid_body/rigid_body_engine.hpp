@@ -41,6 +41,14 @@ struct RigidBodySettings {
   double skin = 0.0;     // neighbour-list skin (absolute); 0 picks default_skin()
 };
 
+// The default neighbour-list skin: the event-driven engine's (about kSkinNeighbours
+// neighbours), but at most kSkinDiameters mean diameters. A rebuild costs more here (it
+// evaluates the orientations of the partners' bodies), and in the dilute gases of
+// Richardson's models a skin of 2-3 diameters was measured fastest (docs/rigid_body.md).
+inline constexpr double kSkinDiameters = 2.5;
+template <int D>
+double rigid_body_skin(const State<D>& s);
+
 template <int D>
 std::unique_ptr<Engine<D>> make_rigid_body_engine(const RigidBodySettings& settings);
 
