@@ -140,6 +140,30 @@ TEST(RigidBodyEngine, ElasticBounceOfSpinningAggregatesConservesMomentaAndEnergy
 TEST(RigidBodyEngine, InelasticBounceDissipatesAndConservesMomenta3D) { bounce_conserves<3>(0.4); }
 TEST(RigidBodyEngine, InelasticBounceDissipatesAndConservesMomenta2D) { bounce_conserves<2>(0.4); }
 
+TEST(RigidBodyEngine, CatastrophicFragmentationConservesMomentaAndEnergy) {
+  // Section 2.6: the impacting aggregates join, then every sphere flies off with its rigid
+  // velocity plus a radial velocity that gives back the energy the joining lost.
+  State<3> s = spinning_pair<3>(0.5);
+  Watcher<3> w;
+  StopCriteria now;
+  now.time = 1e-12;
+  run_rigid(s, {}, now, w);
+  const Totals<3> before(s);
+  RigidBodySettings law;
+  law.fragmentation_energy = 1e-6;  // every impact breaks
+  StopCriteria first;
+  first.time = 8.0;
+  w.check = [&](const State<3>& st, const EventRecord& e) {
+    if (e.kind != EventKind::collision || w.collisions.size() != 1) return;
+    EXPECT_EQ(st.n_clusters(), 7);  // every sphere on its own
+    const Totals<3> after(st);
+    expect_conserved(before, after, true);
+  };
+  const RunResult r = run_rigid(s, law, first, w);
+  EXPECT_EQ(r.counters.fragmentations, 1);
+  EXPECT_LT(testing::worst_overlap(s), 1e-9);
+}
+
 // ---- contact times against a brute-force reference -----------------------------------------
 
 // A body integrated independently of the engine: centre in a straight line, orientation by
