@@ -370,8 +370,12 @@ class RigidBodyCore {
     const Vec<D> between = s_.box.separation(s_.origin(c, now), s_.origin(d, now));
     if (between.norm() > bound && (!s_.box.periodic() || bound < 0.5 * s_.box.length)) {
       const Vec<D> zero = Vec<D>::Zero();
-      start = std::max(now, predicted_contact(s_.box, kc, zero, kd, zero, bound, now, limit));
+      start = predicted_contact(s_.box, kc, zero, kd, zero, bound, now, limit);
       if (start >= limit) return;
+      if (start > now) {  // the search begins when they do
+        batch_.push_back({start, c, d, kc.stamp, kd.stamp, EventKind::contact_search});
+        return;
+      }
     }
     search_range_ = {first, last};
     const PairStep step = advance_pairs(c, d, start);
@@ -662,19 +666,39 @@ class RigidBodyCore {
     predict(d, false, c);
   }
 
+  // Bodies of the touching spheres i and j stick at time t. The absorbed (smaller) body's
+  // spheres are re-binned and their lists refreshed at once, O(their number): the joined
+  // body then carries only the larger one's drift. (Taking the larger drift of the two
+  // instead would make a big aggregate that sweeps up monomers rebuild all its lists
+  // after nearly every merge.)
   int stick(int i, int j, double t) {
     const int a = body_of(i), b = body_of(j);
-    const double slack = std::max(drift(a, t), drift(b, t));
     for (int c : {a, b})
       if (s_.clusters[c].size() == 1 && !merged_sphere_[s_.clusters[c].members.front()]) free_mass_ -= s_.clusters[c].mass;
     const int absorbed = std::min(s_.clusters[a].size(), s_.clusters[b].size());
+    // The survivor is the larger body (RigidBodies::stick); its drift so far carries over.
+    const int larger = s_.clusters[b].size() > s_.clusters[a].size() || (s_.clusters[b].size() == s_.clusters[a].size() && b < a) ? b : a;
+    const double slack = drift(larger, t);
     const int keep = bodies_.stick(s_, i, j, t);
     const int gone = keep == a ? b : a;
+    const std::int32_t* cluster = s_.spheres.cluster.data();
     const std::vector<std::int32_t>& members = s_.clusters[keep].members;  // absorbed ones last
     for (auto m = members.end() - absorbed; m != members.end(); ++m) grid_->set_tag(*m, keep);
-    lists_.absorb(keep, gone, s_.spheres.cluster.data());
+    lists_.absorb(keep, gone, cluster);
     calendar_.forget(gone);
     drift_[keep] = {Vec<D>::Zero(), slack, 0.0};
+    forget_pose(keep);
+    forget_pose(gone);
+    for (auto m = members.end() - absorbed; m != members.end(); ++m) {
+      const int k = *m;
+      const Vec<D> xk = unwrapped_position(k, t);
+      grid_->move(k, s_.box.wrap(xk));
+      for (auto p = static_cast<std::ptrdiff_t>(lists_.partners(k).size()) - 1; p >= 0; --p) {
+        const int j2 = lists_.partners(k)[p];
+        if (!within_reach(k, xk, j2, t)) lists_.remove_pair(k, j2, cluster);
+      }
+      for_each_foreign_near(k, t, [&](int j2) { return !lists_.listed(k, j2); }, [&](int j2) { lists_.add_pair(k, j2, cluster); });
+    }
     forget_pose(keep);
     forget_pose(gone);
     serial_[keep] = next_serial_++;
