@@ -291,3 +291,34 @@ TEST(RigidBodyRun, StopsWhenABodySpansThePeriodicBox) {
 
 }  // namespace
 }  // namespace ballagg
+
+namespace ballagg {
+namespace {
+
+// examples/richardson1995/model-*.toml load, and each runs shrunk (200 spheres in a box of
+// the same density, a tenth of the time) without overlaps.
+TEST(RigidBodyExamples, RichardsonModelsLoadAndRunShrunk) {
+  int seen = 0;
+  for (const char* model : {"i", "ii", "iii", "iv", "v"}) {
+    SCOPED_TRACE(model);
+    Config c = load_config(std::string(BALLAGG_SOURCE_DIR) + "/examples/richardson1995/model-" + model + ".toml", {});
+    EXPECT_EQ(c.engine.kind, EngineKind::rigid_body);
+    EXPECT_EQ(c.system.dimension, 3);
+    const double density = c.system.n / std::pow(*c.system.box_length, 3);
+    c.system.n = 200;
+    c.system.box_length = std::cbrt(200 / density);
+    c.stop.time /= 10;
+    State<3> s = make_initial_state<3>(c);
+    const Config resolved = resolve_defaults(c, s);
+    RunObserver<3> none;
+    const RunResult r = make_engine<3>(resolved)->run(s, stop_criteria(resolved), none);
+    EXPECT_EQ(r.reason, StopReason::time);
+    EXPECT_GT(r.counters.collisions, 10);
+    EXPECT_LT(testing::worst_overlap(s), 1e-9);
+    ++seen;
+  }
+  EXPECT_EQ(seen, 5);
+}
+
+}  // namespace
+}  // namespace ballagg
