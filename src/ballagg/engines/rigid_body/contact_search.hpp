@@ -18,7 +18,9 @@
 // then known to that fraction of a diameter (Richardson tolerated overlaps of ~1%).
 //
 // A pair touching but not approaching (it has just bounced) is passed over with the step
-// after which it may overlap by at most kContactGap: sqrt(2 kContactGap sigma / c).
+// after which it may overlap by at most kContactGap (the root of g + g' h - c h^2 / 2 =
+// -kContactGap sigma; a pair already that deep may sink by a tenth of it more, so that
+// time moves on).
 #include <cmath>
 #include <limits>
 
@@ -45,8 +47,11 @@ inline PairStep advancement_step(double gap, double rate, double tolerance, doub
     if (rate < 0.0) {
       s.touching = true;
       s.step = 0.0;
+    } else if (curvature > 0.0) {
+      const double room = std::max(gap + tolerance, 0.1 * tolerance);
+      s.step = (rate + std::sqrt(rate * rate + 2.0 * curvature * room)) / curvature;
     } else {
-      s.step = curvature > 0.0 ? std::sqrt(2.0 * tolerance / curvature) : never;
+      s.step = never;
     }
     return s;
   }

@@ -662,6 +662,8 @@ class RigidBodyCore {
       forget_pose(d);
     }
     s_.clusters[c].last_collision_time = s_.clusters[d].last_collision_time = t;
+    // Both motions changed: c's predictions must see d's new list expiry.
+    rebuild_at_[d] = rebuild_time(d);
     predict(c);
     predict(d, false, c);
   }
@@ -783,6 +785,7 @@ class RigidBodyCore {
     }
     for (int i : members)
       for_each_foreign_near(i, t, [&](int j) { return !lists_.listed(i, j); }, [&](int j) { lists_.add_pair(i, j, cluster); });
+    for (int b : pieces) rebuild_at_[b] = rebuild_time(b);  // each piece's predictions see the others'
     for (int b : pieces) predict(b);
   }
 
