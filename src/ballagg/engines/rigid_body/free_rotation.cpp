@@ -108,7 +108,10 @@ FreeRotation<3>::FreeRotation(const Vec<3>& moments, const Eigen::Quaterniond& o
   right_ = f * s;
   left_ = r0_ * right_.transpose() * b0.transpose();
   right_ = right_ * frame.transpose();
-  max_speed_ = amplitude_.cwiseQuotient(j_).norm();
+  // |omega|^2 = sum m_i^2 / J_i^2 is linear in sn^2 (cn^2 = 1 - sn^2, dn^2 = 1 - k^2 sn^2):
+  // its largest value is at sn^2 = 0 or 1.
+  const Vec<3> w2 = amplitude_.cwiseQuotient(j_).cwiseAbs2();
+  max_speed_ = std::sqrt(std::max(w2[0] + w2[2], w2[1] + (1.0 - k2) * w2[2]));
   slow_nutation_ = std::abs(lambda_) < kSlowNutation * h_norm_ / j_.minCoeff();
   max_acceleration_ = h_norm_ * max_speed_ / j_.minCoeff();
 }
