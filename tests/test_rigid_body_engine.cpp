@@ -93,14 +93,22 @@ void expect_conserved(const Totals<D>& before, const Totals<D>& after, bool ener
   }
 }
 
+// The spinning pair with its bodies built (spins turned into angular momenta) by a run
+// that stops at once.
 template <int D>
-void stick_conserves_momenta() {
+State<D> prepared_pair() {
   State<D> s = spinning_pair<D>(0.5);
-  Watcher<D> w;
-  // Build the bodies (spins -> angular momenta) with a run that stops at once.
+  RunObserver<D> none;
   StopCriteria now;
   now.time = 1e-12;
-  run_rigid(s, {}, now, w);
+  run_rigid(s, {}, now, none);
+  return s;
+}
+
+template <int D>
+void stick_conserves_momenta() {
+  State<D> s = prepared_pair<D>();
+  Watcher<D> w;
   const Totals<D> before(s);
   StopCriteria merged;
   merged.clusters = 1;
@@ -116,11 +124,8 @@ TEST(RigidBodyEngine, OffCentreCoagulationOfSpinningAggregatesConservesMomenta2D
 
 template <int D>
 void bounce_conserves(double eps) {
-  State<D> s = spinning_pair<D>(0.5);
+  State<D> s = prepared_pair<D>();
   Watcher<D> w;
-  StopCriteria now;
-  now.time = 1e-12;
-  run_rigid(s, {}, now, w);
   const Totals<D> before(s);
   RigidBodySettings law;
   law.outcome = CollisionOutcome::bounce;
@@ -144,11 +149,8 @@ TEST(RigidBodyEngine, InelasticBounceDissipatesAndConservesMomenta2D) { bounce_c
 TEST(RigidBodyEngine, CatastrophicFragmentationConservesMomentaAndEnergy) {
   // Section 2.6: the impacting aggregates join, then every sphere flies off with its rigid
   // velocity plus a radial velocity that gives back the energy the joining lost.
-  State<3> s = spinning_pair<3>(0.5);
+  State<3> s = prepared_pair<3>();
   Watcher<3> w;
-  StopCriteria now;
-  now.time = 1e-12;
-  run_rigid(s, {}, now, w);
   const Totals<3> before(s);
   RigidBodySettings law;
   law.fragmentation_energy = 1e-6;  // every impact breaks

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "ballagg/core/small_vector.hpp"
@@ -89,6 +90,16 @@ class EventCalendar {
   // The time of the earliest event filed (possibly stale), or +inf.
   double earliest_time() {
     return order_.empty() ? std::numeric_limits<double>::infinity() : filed_[order_.top()].front().time;
+  }
+
+  // Pops events until one passes `valid` (stale ones are dropped) and returns it.
+  template <class Valid>
+  std::optional<Event> pop_valid(Valid&& valid) {
+    while (!empty()) {
+      const Event e = pop();
+      if (valid(e)) return e;
+    }
+    return std::nullopt;
   }
 
   // Removes and returns the earliest event (possibly stale). Requires !empty().

@@ -75,11 +75,7 @@ class EventDrivenCore {
   EngineCounters& counters() { return count_; }
 
   std::optional<Event> next_event() {
-    while (!calendar_.empty()) {
-      const Event e = calendar_.pop();
-      if (valid(e)) return e;
-    }
-    return std::nullopt;
+    return calendar_.pop_valid([&](const Event& e) { return valid(e); });
   }
 
   EventRecord handle(const Event& e) {

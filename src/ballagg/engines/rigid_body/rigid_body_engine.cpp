@@ -92,11 +92,7 @@ class RigidBodyCore {
   void set_aggregated_target(double f) { aggregated_target_ = f; }
 
   std::optional<Event> next_event() {
-    while (!calendar_.empty()) {
-      const Event e = calendar_.pop();
-      if (valid(e)) return e;
-    }
-    return std::nullopt;
+    return calendar_.pop_valid([&](const Event& e) { return valid(e); });
   }
 
   EventRecord handle(const Event& e) {
@@ -272,16 +268,20 @@ class RigidBodyCore {
     for (int c : s_.alive_clusters()) predict(c, /*skip_lower_bodies=*/true);
   }
 
+  // Drops the pairs of sphere i that are out of reach at time t. Removal swaps the last
+  // partner into the hole, so walking the list from its end visits every entry once.
+  void drop_out_of_reach(int i, double t) {
+    const Vec<D> xi = unwrapped_position(i, t);
+    for (auto p = static_cast<std::ptrdiff_t>(lists_.partners(i).size()) - 1; p >= 0; --p) {
+      const int j = lists_.partners(i)[p];
+      if (!within_reach(i, xi, j, t)) lists_.remove_pair(i, j, s_.spheres.cluster.data());
+    }
+  }
+
   EventRecord rebuild(int c, double t) {
     const std::int32_t* cluster = s_.spheres.cluster.data();
-    for (auto e = static_cast<std::ptrdiff_t>(lists_.exposed(c).size()) - 1; e >= 0; --e) {
-      const int i = lists_.exposed(c)[e];
-      const Vec<D> xi = unwrapped_position(i, t);
-      for (auto p = static_cast<std::ptrdiff_t>(lists_.partners(i).size()) - 1; p >= 0; --p) {
-        const int j = lists_.partners(i)[p];
-        if (!within_reach(i, xi, j, t)) lists_.remove_pair(i, j, cluster);
-      }
-    }
+    for (auto e = static_cast<std::ptrdiff_t>(lists_.exposed(c).size()) - 1; e >= 0; --e)
+      drop_out_of_reach(lists_.exposed(c)[e], t);
     for (int i : s_.clusters[c].members) grid_->move(i, s_.box.wrap(unwrapped_position(i, t)));
     reset_drift(c, t);
     // Predictions already filed stay valid (exact contact times, or searches that look at
@@ -693,12 +693,8 @@ class RigidBodyCore {
     forget_pose(gone);
     for (auto m = members.end() - absorbed; m != members.end(); ++m) {
       const int k = *m;
-      const Vec<D> xk = unwrapped_position(k, t);
-      grid_->move(k, s_.box.wrap(xk));
-      for (auto p = static_cast<std::ptrdiff_t>(lists_.partners(k).size()) - 1; p >= 0; --p) {
-        const int j2 = lists_.partners(k)[p];
-        if (!within_reach(k, xk, j2, t)) lists_.remove_pair(k, j2, cluster);
-      }
+      grid_->move(k, s_.box.wrap(unwrapped_position(k, t)));
+      drop_out_of_reach(k, t);
       for_each_foreign_near(k, t, [&](int j2) { return !lists_.listed(k, j2); }, [&](int j2) { lists_.add_pair(k, j2, cluster); });
     }
     forget_pose(keep);
