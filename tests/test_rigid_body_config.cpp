@@ -213,6 +213,25 @@ TEST(RigidBodyRun, EnergyCreatingCoefficientsStopTheRunWithAClearErrorAndNoOutpu
   EXPECT_FALSE(std::filesystem::exists(dir / "out"));
 }
 
+TEST(RigidBodyRun, FrictionOpposingTheSlipDissipatesAndConservesMomentum) {
+  // Equal spheres: with eps_n = 0.5, mu_t = 0.2 dissipates energy whatever the slip
+  // (mu_t <= sqrt((1 - eps) / (1 + eps) 2 / 7) = 0.31, docs/rigid_body.md).
+  TempDir dir;
+  run_simulation(small_run(3, "[collision]\noutcome = \"bounce\"\nrestitution = 0.5\nmu_t = 0.2\ntc_time = 0\n[stop]\ntime = 10\n"),
+                 {(dir / "friction").string(), true, false});
+  run_simulation(small_run(3, "[collision]\noutcome = \"bounce\"\n[stop]\ntime = 10\n"), {(dir / "smooth").string(), true, false});
+  auto energy = [&](const char* d, const char* when) {
+    const nlohmann::json j = summary_of(dir / d);
+    return j[std::string("kinetic_energy_") + when].get<double>() + j[std::string("rotational_energy_") + when].get<double>();
+  };
+  EXPECT_NEAR(energy("smooth", "final"), energy("smooth", "initial"), 1e-9 * energy("smooth", "initial"));
+  EXPECT_LT(energy("friction", "final"), 0.5 * energy("friction", "initial"));
+  EXPECT_GT(summary_of(dir / "friction")["rotational_energy_final"].get<double>(), 0.0);  // friction spins the spheres
+  const nlohmann::json j = summary_of(dir / "friction");
+  EXPECT_GT(j["bounces"].get<int>(), 50);
+  for (int a = 0; a < 3; ++a) EXPECT_NEAR(j["momentum_final"][a].get<double>(), j["momentum_initial"][a].get<double>(), 1e-10);
+}
+
 TEST(RigidBodyRun, EnergyThresholdSticksSlowImpactsAndBouncesFastOnes) {
   TempDir dir;
   run_simulation(small_run(3, "[collision]\noutcome = \"energy-threshold\"\n[stop]\ntime = 20\n"),
