@@ -15,36 +15,18 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "cli_support.hpp"
 #include "support.hpp"
-
-#ifndef BALLAGG_BINARY
-#error "BALLAGG_BINARY must name the ballagg executable"
-#endif
 
 namespace fs = std::filesystem;
 using ballagg::testing::TempDir;
 
 namespace {
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void write(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
-
-std::string quoted(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-struct Outcome {
-  int status = -1;
-  std::string out, err;
-};
+using ballagg::testing::Outcome;
+using ballagg::testing::quoted;
+using ballagg::testing::slurp;
+using ballagg::testing::write;
 
 // A fresh directory per test; every command runs with the binary, its output captured.
 class Cli : public ::testing::Test {
@@ -53,22 +35,7 @@ class Cli : public ::testing::Test {
 
   // Runs `ballagg args...` (each argument quoted for the shell); a run that hangs is killed
   // after a minute and reported with status 124.
-  Outcome run(const std::vector<std::string>& args) const {
-    std::string command = "timeout -k 5 60 ";
-    command += quoted(BALLAGG_BINARY);
-    for (const std::string& a : args) command.append(" ").append(quoted(a));
-    const fs::path out = dir_ / ".stdout", err = dir_ / ".stderr";
-    command.append(" >").append(quoted(out.string())).append(" 2>").append(quoted(err.string()));
-    command.append(" </dev/null");
-    const int raw = std::system(command.c_str());
-    Outcome o;
-    o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-    o.out = slurp(out);
-    o.err = slurp(err);
-    fs::remove(out);
-    fs::remove(err);
-    return o;
-  }
+  Outcome run(const std::vector<std::string>& args) const { return ballagg::testing::run_ballagg(args, dir_); }
 
   // A small, fast run (16 discs, a few milliseconds) with extra arguments.
   Outcome tiny_run(const fs::path& out_dir, std::vector<std::string> extra = {}) const {
@@ -466,7 +433,8 @@ TEST_F(Cli, UnreadableConfigFileIsBadInput) {
 
 TEST_F(Cli, UnknownCommandLineOptionIsBadInput) {
   expect_bad_input({"run", "--bogus", "--out", path("out").string()}, path("out"), {"--bogus"});
-  expect_bad_input({"frobnicate", "--out", path("out").string()}, path("out"), {"frobnicate"});
+  expect_bad_input({"frobnicate", "--out", path("out").string()}, path("out"),
+                   {"unknown command 'frobnicate' (commands: run, config, analyze, sweep, plot, render;"});
 }
 
 TEST_F(Cli, BadSeedIsBadInput) {

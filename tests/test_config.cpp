@@ -18,6 +18,7 @@ namespace fs = std::filesystem;
 using ballagg::Config;
 using ballagg::InputError;
 using ballagg::parse_config_text;
+using ballagg::SnapshotFormat;
 
 using ballagg::testing::TempDir;
 
@@ -312,10 +313,22 @@ TEST(Config, SetIntoASectionThatIsNotATableIsAnError) {
   EXPECT_CONTAINS(m, "[system]");
 }
 
-TEST(Config, SetWithAnArrayValueIsAnError) {
+TEST(Config, SetWithAnArrayForANumberIsAnError) {
   const std::string m = error_of("", {"system.n=[1, 2]"});
-  EXPECT_CONTAINS(m, "--set system.n=[1, 2]");
-  EXPECT_CONTAINS(m, "number, a boolean or a string");
+  EXPECT_CONTAINS(m, "--set system.n: system.n = [1, 2]: must be an integer");
+}
+
+TEST(Config, SnapshotFormatsAreAListOfDistinctKnownNames) {
+  EXPECT_EQ(parse_config_text("", "t", {"output.snapshot_formats=[\"xyz\", \"h5md\"]"}).output.snapshot_formats,
+            (std::vector<SnapshotFormat>{SnapshotFormat::xyz, SnapshotFormat::h5md}));
+  EXPECT_EQ(parse_config_text("", "t", {"output.snapshot_formats=xyz"}).output.snapshot_formats,
+            std::vector<SnapshotFormat>{SnapshotFormat::xyz});
+  EXPECT_CONTAINS(error_of("", {"output.snapshot_formats=[\"h5md\", \"pdf\"]"}),
+                  "output.snapshot_formats = [\"h5md\", \"pdf\"]: must be a list of distinct names from \"h5md\", \"xyz\"");
+  EXPECT_CONTAINS(error_of("", {"output.snapshot_formats=[\"xyz\", \"xyz\"]"}), "distinct");
+  EXPECT_CONTAINS(error_of("", {"output.snapshot_formats=[]", "output.snapshot_every=1"}),
+                  "output.snapshot_formats is empty");
+  EXPECT_CONTAINS(error_of("", {"output.snapshot_every=-1"}), "output.snapshot_every = -1: must be a number >= 0");
 }
 
 TEST(Config, NonIntegralExponentIsNotAnInteger) {

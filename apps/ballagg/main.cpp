@@ -5,6 +5,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -13,6 +14,10 @@
 #include "ballagg/config/config.hpp"
 #include "ballagg/run/simulation.hpp"
 #include "ballagg/version.hpp"
+#include "analyze_command.hpp"
+#include "plot_command.hpp"
+#include "render_command.hpp"
+#include "sweep_command.hpp"
 
 namespace {
 
@@ -52,6 +57,15 @@ int main(int argc, char** argv) {
   CLI::App* show = app.add_subcommand("config", "Print the configuration that a run would use, as TOML");
   add_config_args(*show, show_args);
 
+  ballagg::cli::AnalyzeCommand analyze;
+  ballagg::cli::add_analyze_command(app, analyze);
+  ballagg::cli::SweepCommand sweep;
+  ballagg::cli::add_sweep_command(app, sweep);
+  ballagg::cli::PlotCommand plot;
+  ballagg::cli::add_plot_command(app, plot);
+  ballagg::cli::RenderCommand render;
+  ballagg::cli::add_render_command(app, render);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -61,10 +75,13 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    // CLI11 reports "a subcommand is required" for a misspelt command: name it instead.
-    if (!*run && !*show && argc > 1 && argv[1][0] != '-') {
-      fmt::print(stderr, "ballagg: error: unknown command '{}' (commands: run, config; see ballagg --help)\n",
-                 argv[1]);
+    // CLI11 reports "a subcommand is required" for a misspelt command: name it, and list
+    // every registered command.
+    if (app.get_subcommands().empty() && argc > 1 && argv[1][0] != '-') {
+      std::string commands;
+      for (const CLI::App* c : std::as_const(app).get_subcommands({}))
+        commands += (commands.empty() ? "" : ", ") + c->get_name();
+      fmt::print(stderr, "ballagg: error: unknown command '{}' (commands: {}; see ballagg --help)\n", argv[1], commands);
       return kBadInput;
     }
     fmt::print(stderr, "ballagg: error: {} (see ballagg --help)\n", e.what());
@@ -72,6 +89,10 @@ int main(int argc, char** argv) {
   }
 
   try {
+    if (*analyze.command) return ballagg::cli::run_analyze_command(analyze);
+    if (*sweep.command) return ballagg::cli::run_sweep_command(sweep);
+    if (*plot.command) return ballagg::cli::run_plot_command(plot);
+    if (*render.command) return ballagg::cli::run_render_command(render);
     if (*show) {
       const ballagg::Config c = ballagg::load_config(show_args.file, show_args.overrides);
       std::cout << ballagg::to_toml_text(c);

@@ -92,6 +92,30 @@ class SectionReader {
     fail(*find(key), key, allowed);
   }
 
+  // A list of distinct names from `names` (a TOML array, or one string for a list of one);
+  // returns their indices in the order given.
+  std::optional<std::vector<int>> choices(const std::string& key, const std::vector<std::string>& names) {
+    std::string allowed = "must be a list of distinct names from";
+    for (std::size_t k = 0; k < names.size(); ++k) allowed += (k ? ", \"" : " \"") + names[k] + "\"";
+    const toml::node* node = find(key);
+    if (node == nullptr) return std::nullopt;
+    std::vector<const toml::node*> items;
+    if (const toml::array* a = node->as_array()) {
+      for (const toml::node& item : *a) items.push_back(&item);
+    } else {
+      items.push_back(node);
+    }
+    std::vector<int> picked;
+    for (const toml::node* item : items) {
+      auto s = item->value_exact<std::string>();
+      const auto it = s ? std::find(names.begin(), names.end(), *s) : names.end();
+      const int index = static_cast<int>(it - names.begin());
+      if (it == names.end() || std::find(picked.begin(), picked.end(), index) != picked.end()) fail(*node, key, allowed);
+      picked.push_back(index);
+    }
+    return picked;
+  }
+
   // Reports the first key of the section that nobody asked for.
   void reject_unknown_keys() const {
     if (table_ == nullptr) return;
@@ -110,6 +134,17 @@ class SectionReader {
     std::ostringstream value;
     if (node.is_string()) value << '"' << *node.value<std::string>() << '"';
     else if (auto d = node.value_exact<double>()) value << fmt::format("{}", *d);  // shortest form: 1e-09
+    else if (const toml::array* a = node.as_array()) {
+      value << '[';
+      for (std::size_t k = 0; k < a->size(); ++k) {
+        const toml::node& item = *a->get(k);
+        value << (k ? ", " : "");
+        if (item.is_string()) value << '"' << *item.value<std::string>() << '"';
+        else if (item.is_value()) item.visit([&](auto&& v) { value << v; });
+        else value << "<" << item.type() << ">";
+      }
+      value << ']';
+    }
     else if (node.is_value()) node.visit([&](auto&& v) { value << v; });
     else value << "<" << node.type() << ">";
     throw InputError(fmt::format("{}: {}.{} = {}: {}", where(node, key), section_, key, value.str(), allowed));
@@ -164,7 +199,8 @@ void apply_override(toml::table& root, const std::string& arg, std::set<std::str
   else if (auto d = v.value_exact<double>()) table->insert_or_assign(key, *d);
   else if (auto b = v.value_exact<bool>()) table->insert_or_assign(key, *b);
   else if (auto s = v.value_exact<std::string>()) table->insert_or_assign(key, *s);
-  else throw InputError(fmt::format("--set {}: the value must be a number, a boolean or a string", arg));
+  else if (const toml::array* a = v.as_array()) table->insert_or_assign(key, *a);
+  else throw InputError(fmt::format("--set {}: the value must be a number, a boolean, a string or an array", arg));
   overridden.insert(path);
 }
 
@@ -182,6 +218,8 @@ TimeSteppingSettings read_ts_section(const toml::table& root, const std::string&
   if (auto v = ts.real("dt_growth", [](double v) { return v >= 1.0 && v <= 1e3; }, "must be a number in [1, 1000]"))
     t.dt_growth = *v;
   t.delta_w = ts.real("delta_w", positive, "must be a number > 0 (a length; default 4 R)");
+  if (auto v = ts.real("bond_stretch", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]"))
+    t.bond_stretch = *v;
   if (auto v = ts.integer("max_link_rounds", 1, 1'000'000, "must be an integer from 1 to 1000000"))
     t.max_link_rounds = static_cast<int>(*v);
   if (auto v = ts.real("alpha", positive, "must be a number > 0")) d.alpha = *v;
@@ -197,6 +235,8 @@ TimeSteppingSettings read_ts_section(const toml::table& root, const std::string&
   if (auto v = ts.real("eps_c", in_open_unit, "must be a number in (0, 1)")) d.eps_c = *v;
   if (auto v = ts.integer("max_iterations", 1, 100'000'000, "must be an integer from 1 to 100000000"))
     d.max_iterations = static_cast<int>(*v);
+  if (auto v = ts.integer("stall_iterations", 0, 100'000'000, "must be an integer from 0 (off) to 100000000"))
+    d.stall_iterations = static_cast<int>(*v);
   ts.reject_unknown_keys();
   if (d.c_min > d.c_max)
     throw InputError(fmt::format("{}: ts.c_min = {} is larger than ts.c_max = {}: the damping bounds must satisfy c_min <= c_max",
@@ -348,10 +388,19 @@ Config read_config(const toml::table& root, const std::string& source, const std
   if (auto v = out.real("timeseries_interval", [](double v) { return v >= 0.0; }, "must be a number >= 0 (0: none)"))
     c.output.timeseries_interval = *v;
   if (auto v = out.boolean("xyz")) c.output.xyz = *v;
+  if (auto v = out.real("snapshot_every", [](double v) { return v >= 0.0; }, "must be a number >= 0 (0: no trajectory)"))
+    c.output.snapshot_every = *v;
+  if (auto v = out.choices("snapshot_formats", {"h5md", "xyz"})) {
+    c.output.snapshot_formats.clear();
+    for (int k : *v) c.output.snapshot_formats.push_back(static_cast<SnapshotFormat>(k));
+  }
   out.reject_unknown_keys();
 
   // Rules that involve several keys.
   check_rigid_body_rules(c, rigid_keys, restitution.has_value());
+  if (c.output.snapshot_every > 0.0 && c.output.snapshot_formats.empty())
+    throw InputError(fmt::format("{}: output.snapshot_every = {} but output.snapshot_formats is empty "
+                                 "(give \"h5md\", \"xyz\" or both, or set snapshot_every = 0)", source, c.output.snapshot_every));
   const bool from_file = c.initial.positions == InitialPositions::file;
   if (c.engine.kind == EngineKind::ts && c.collision.outcome != CollisionOutcome::stick)
     throw InputError(fmt::format("{}: engine.kind = \"ts\" simulates sticking only: collision.outcome must be \"stick\" "
@@ -432,6 +481,7 @@ std::string_view to_string(EngineKind k) {
   static constexpr std::string_view names[] = {"ed", "ed-naive", "ts", "rigid-body"};
   return names[static_cast<int>(k)];
 }
+std::string_view to_string(SnapshotFormat f) { return f == SnapshotFormat::h5md ? "h5md" : "xyz"; }
 std::string_view to_string(TsModel m) {
   static constexpr std::string_view names[] = {"rigid", "almost-rigid", "non-rigid"};
   return names[static_cast<int>(m)];
@@ -449,7 +499,7 @@ namespace {
 
 // The resolved configuration as ordered sections of (key, value), the single source of
 // both the TOML and the JSON rendering.
-using Value = std::variant<std::int64_t, double, bool, std::string>;
+using Value = std::variant<std::int64_t, double, bool, std::string, std::vector<std::string>>;
 using Section = std::pair<std::string, std::vector<std::pair<std::string, Value>>>;
 
 std::vector<Section> entries(const Config& c) {
@@ -497,6 +547,7 @@ std::vector<Section> entries(const Config& c) {
               {"dt_factor", t.dt_factor},
               {"dt_growth", t.dt_growth}}};
   if (t.delta_w) ts.second.push_back({"delta_w", *t.delta_w});
+  ts.second.push_back({"bond_stretch", t.bond_stretch});
   const DahaParameters& d = t.daha;
   for (auto&& [key, value] : std::initializer_list<std::pair<const char*, double>>{
            {"alpha", d.alpha}, {"gamma", d.gamma}, {"delta", d.delta}, {"c_bar", d.c_bar}, {"c_min", d.c_min}, {"c_max", d.c_max},
@@ -504,10 +555,17 @@ std::vector<Section> entries(const Config& c) {
            {"eps_c", d.eps_c}})
     ts.second.push_back({key, value});
   ts.second.push_back({"max_iterations", std::int64_t{d.max_iterations}});
+  ts.second.push_back({"stall_iterations", std::int64_t{d.stall_iterations}});
   ts.second.push_back({"max_link_rounds", std::int64_t{t.max_link_rounds}});
   Section stop{"stop", {{"clusters", c.stop.clusters}, {"time", c.stop.time}, {"wall_seconds", c.stop.wall_seconds}}};
   if (c.stop.aggregated_fraction) stop.second.push_back({"aggregated_fraction", *c.stop.aggregated_fraction});
-  Section output{"output", {{"timeseries_interval", c.output.timeseries_interval}, {"xyz", c.output.xyz}}};
+  std::vector<std::string> formats;
+  for (SnapshotFormat f : c.output.snapshot_formats) formats.emplace_back(to_string(f));
+  Section output{"output",
+                 {{"timeseries_interval", c.output.timeseries_interval},
+                  {"xyz", c.output.xyz},
+                  {"snapshot_every", c.output.snapshot_every},
+                  {"snapshot_formats", formats}}};
   if (c.engine.kind != EngineKind::ts) return {system, initial, collision, engine, stop, output};
   return {system, initial, collision, engine, ts, stop, output};
 }
@@ -520,6 +578,11 @@ std::string toml_value(const Value& v) {
     std::string text = fmt::format("{}", *d);  // shortest form that reads back exactly
     if (text.find_first_of(".e") == std::string::npos) text += ".0";
     return text;
+  }
+  if (auto list = std::get_if<std::vector<std::string>>(&v)) {
+    std::string text = "[";
+    for (const std::string& item : *list) text += (text.size() > 1 ? ", " : "") + toml_value(item);
+    return text + "]";
   }
   std::string quoted = "\"";
   for (char ch : std::get<std::string>(v)) {

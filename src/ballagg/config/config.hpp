@@ -72,9 +72,13 @@ struct StopConfig {
   std::optional<double> aggregated_fraction;  // rigid-body engine only
 };
 
+enum class SnapshotFormat { h5md, xyz };
+
 struct OutputConfig {
   double timeseries_interval = 0.0;  // simulated time between extra rows; 0: none
   bool xyz = true;
+  double snapshot_every = 0.0;       // simulated time between trajectory frames; 0: none
+  std::vector<SnapshotFormat> snapshot_formats{SnapshotFormat::h5md};  // no duplicates
 };
 
 struct Config {
@@ -111,6 +115,7 @@ std::string to_json_text(const Config& c);
 std::string_view to_string(InitialPositions p);
 std::string_view to_string(InitialVelocities v);
 std::string_view to_string(EngineKind k);
+std::string_view to_string(SnapshotFormat f);
 
 std::string_view to_string(CollisionOutcome o);
 std::string_view to_string(Coagulation c);

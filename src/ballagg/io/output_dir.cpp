@@ -46,9 +46,20 @@ bool prepare_output_dir(const std::string& dir) {
   return !existed;
 }
 
+std::string temporary_path_for(const std::string& path) {
+  const fs::path p(path);
+  return (p.parent_path() / fmt::format(".{}.tmp", p.filename().string())).string();
+}
+
+void rename_into_place(const std::string& temporary, const std::string& path) {
+  std::error_code ec;
+  fs::rename(temporary, path, ec);
+  if (ec) throw std::runtime_error(fmt::format("{}: cannot write: {}", path, ec.message()));
+}
+
 void write_file_atomically(const std::string& dir, const std::string& name, const std::string& content) {
   const fs::path target = fs::path(dir) / name;
-  const fs::path temporary = fs::path(dir) / ("." + name + ".tmp");
+  const fs::path temporary = temporary_path_for(target.string());
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     out.write(content.data(), static_cast<std::streamsize>(content.size()));
@@ -59,9 +70,7 @@ void write_file_atomically(const std::string& dir, const std::string& name, cons
       throw std::runtime_error(fmt::format("{}: cannot write (disk full?)", target.string()));
     }
   }
-  std::error_code ec;
-  fs::rename(temporary, target, ec);
-  if (ec) throw std::runtime_error(fmt::format("{}: cannot write: {}", target.string(), ec.message()));
+  rename_into_place(temporary.string(), target.string());
 }
 
 }  // namespace ballagg

@@ -13,6 +13,12 @@ std::string default_output_dir(const std::string& parent = "out");
 // Throws InputError naming the directory and the reason. Returns true if it was created.
 bool prepare_output_dir(const std::string& dir);
 
+// Where a file is written before it is renamed to `path`: .NAME.tmp in the same directory.
+std::string temporary_path_for(const std::string& path);
+
+// Renames the complete file `temporary` to `path`. Throws std::runtime_error naming `path`.
+void rename_into_place(const std::string& temporary, const std::string& path);
+
 // Writes `content` to dir/name atomically. Throws std::runtime_error on failure.
 void write_file_atomically(const std::string& dir, const std::string& name, const std::string& content);
 

@@ -23,6 +23,7 @@
 #include "ballagg/io/timeseries.hpp"
 #include "ballagg/io/xyz.hpp"
 #include "ballagg/run/progress.hpp"
+#include "ballagg/run/snapshots.hpp"
 #include "ballagg/version.hpp"
 
 namespace ballagg {
@@ -224,6 +225,8 @@ std::string run_in_dimension(const Config& given, const RunOptions& options) {
   ProgressReporter<D> progress(stderr, options.progress_on_terminal && isatty(STDERR_FILENO), stop);
   ObserverList<D> observers;
   observers.add(&timeseries);
+  const std::unique_ptr<SnapshotRecorder<D>> snapshots = make_snapshot_recorder(config, state, dir);
+  if (snapshots) observers.add(snapshots.get());
   if (!options.quiet) observers.add(&progress);
   RunResult result;
   try {

@@ -2,15 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace ballagg {
 namespace {
 
-// Relative overlap 1 - d / sigma of a pair at separation d, or 0 when apart.
-template <int D>
-double relative_overlap(const Vec<D>& d, double sigma) {
-  return std::max(0.0, 1.0 - d.norm() / sigma);
-}
+// The fraction of its best value the worst violation must fall to, to count as progress
+// for stall_iterations.
+constexpr double kStallProgress = 0.9;
 
 // Overlap statistics that drive the dynamical parameters (3.29).
 struct OverlapStats {
@@ -31,22 +30,37 @@ void update_multipliers(DahaProblem<D>& prob, const std::vector<Vec<D>>& u, doub
   std::fill(s.count.begin(), s.count.end(), 0.0);
   double total = 0.0;
   s.max = 0.0;
+  double counted = 0.0;
   for (DahaPair<D>& q : prob.pairs) {
     const Vec<D> d = separation(q, u);
     const double phi = q.sigma * q.sigma - d.squaredNorm();  // smooth constraint (3.4)
     q.lambda = std::max(0.0, q.lambda + beta * phi);
-    const double rho = relative_overlap<D>(d, q.sigma);
-    // (3.28) read with complementarity: a constraint carrying a multiplier must hold as an
-    // equality (touching, |1 - d / sigma| small), one without only as an inequality.
-    const double violation = q.lambda > 0.0 ? std::abs(1.0 - d.norm() / q.sigma) : rho;
+    double rho = 0.0;  // relative overlap, 1 - |d| / sigma when positive
+    if (phi > 0.0 || q.lambda > 0.0) {
+      const double gap = 1.0 - d.norm() / q.sigma;
+      rho = std::max(0.0, gap);
+      // (3.28) read with complementarity: a constraint carrying a multiplier must hold as
+      // an equality (touching, |1 - d / sigma| small), one without only as an inequality.
+      s.max = std::max(s.max, q.lambda > 0.0 ? std::abs(gap) : rho);
+    } else if (q.guard) {
+      continue;  // an idle guard: apart, without a multiplier
+    }
+    if (q.stretch_limit < std::numeric_limits<double>::infinity()) {  // a bond's upper bound
+      const double psi = d.squaredNorm() - q.stretch_limit * q.stretch_limit;
+      q.mu = std::max(0.0, q.mu + beta * psi);
+      if (psi > 0.0 || q.mu > 0.0) {
+        const double stretch = d.norm() / q.stretch_limit - 1.0;
+        s.max = std::max(s.max, q.mu > 0.0 ? std::abs(stretch) : std::max(0.0, stretch));
+      }
+    }
     s.sum[q.a] += rho;
     s.sum[q.b] += rho;
     s.count[q.a] += 1.0;
     s.count[q.b] += 1.0;
     total += rho;
-    s.max = std::max(s.max, violation);
+    counted += 1.0;
   }
-  s.mean = prob.pairs.empty() ? 0.0 : total / static_cast<double>(prob.pairs.size());
+  s.mean = counted > 0.0 ? total / counted : 0.0;
 }
 
 // (3.29), beta = beta-bar sqrt(N) / phi_A: multipliers grow faster as the overlaps shrink
@@ -87,8 +101,12 @@ DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<V
   std::vector<Vec<D>> velocity(n_vars, Vec<D>::Zero()), force(n_vars), previous(n_vars);
   OverlapStats stats{std::vector<double>(n_vars), std::vector<double>(n_vars)};
   // (3.26): lambda = lambda0 max(0, phi) for a pair without a stored multiplier.
-  for (DahaPair<D>& q : prob.pairs)
+  // The same for a bond's upper bound.
+  for (DahaPair<D>& q : prob.pairs) {
     if (q.lambda == 0.0) q.lambda = p.lambda0 * std::max(0.0, q.sigma * q.sigma - q.base.squaredNorm());
+    if (q.mu == 0.0 && q.stretch_limit < std::numeric_limits<double>::infinity())
+      q.mu = p.lambda0 * std::max(0.0, q.base.squaredNorm() - q.stretch_limit * q.stretch_limit);
+  }
   update_multipliers(prob, u, 0.0, stats);  // beta = 0: statistics only
   // Diagonal (Jacobi) scaling: the force on a variable held by stiff constraints (many of
   // them, or large multipliers) changes fast with its position, and the explicit update
@@ -99,6 +117,9 @@ DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<V
   DahaResult result;
   const double half = 0.5 * p.delta;
   const double range2 = prob.range * prob.range;
+  // Progress watch for stall_iterations: the best worst-violation so far, and when it fell.
+  double best_violation = stats.max;
+  int best_at = 0;
   while (result.iterations < p.max_iterations) {
     ++result.iterations;
     previous = u;
@@ -111,6 +132,7 @@ DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<V
     // (3.21): F_a = -alpha (grad_a W + lambda grad_a phi) - gamma phi lambda grad_a phi,
     // with grad_a W = d for an attracting pair and grad_a phi = -2 d, d = X_a - X_b.
     for (const DahaPair<D>& q : prob.pairs) {
+      if (!q.attract && q.lambda == 0.0 && q.mu == 0.0) continue;  // no force: nothing active
       const Vec<D> d = separation(q, u);
       const double d2 = d.squaredNorm();
       const double phi = q.sigma * q.sigma - d2;
@@ -118,7 +140,15 @@ DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<V
       const double coefficient = (attract ? -p.alpha : 0.0) + 2.0 * q.lambda * (p.alpha + p.gamma * phi);
       force[q.a] += coefficient * d;
       force[q.b] -= coefficient * d;
-      const double k = std::abs(coefficient) + 4.0 * p.gamma * q.lambda * d2;
+      double k = std::abs(coefficient) + 4.0 * p.gamma * q.lambda * d2;
+      if (q.mu > 0.0) {
+        // The bond's bound: -alpha mu grad psi - gamma psi mu grad psi, grad_a psi = 2 d.
+        const double psi = d2 - q.stretch_limit * q.stretch_limit;
+        const double pull = -2.0 * q.mu * (p.alpha + p.gamma * psi);
+        force[q.a] += pull * d;
+        force[q.b] -= pull * d;
+        k += std::abs(pull) + 4.0 * p.gamma * q.mu * d2;
+      }
       stiffness[q.a] += k;
       stiffness[q.b] += k;
     }
@@ -134,6 +164,12 @@ DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<V
     for (int k = 0; k < n_vars; ++k) largest_move = std::max(largest_move, (u[k] - previous[k]).norm());
     result.converged = largest_move <= p.eps_s && stats.max <= p.eps_c;  // (3.28)
     if (result.converged) break;
+    if (stats.max < kStallProgress * best_violation || stats.max <= p.eps_c) {
+      best_violation = std::min(best_violation, stats.max);
+      best_at = result.iterations;
+    } else if (p.stall_iterations > 0 && result.iterations - best_at >= p.stall_iterations) {
+      break;  // stalled
+    }
   }
   result.residual_overlap = stats.max;
   return result;

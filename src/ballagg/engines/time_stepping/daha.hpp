@@ -14,6 +14,7 @@
 // so that the parameters are dimensionless. docs/time_stepping.md derives the update from
 // the physics where the extracted formulas are garbled.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "ballagg/core/vec.hpp"
@@ -29,11 +30,23 @@ struct DahaPair {
   double lambda = 0.0;                // Lagrange multiplier, in and out (warm start)
   bool attract = true;                // in the potential W (links; pairs within Delta_W)
   bool attract_within_range = false;  // almost-rigid: W term only while |d| <= range (H_W)
+  // A guard: a pair outside S, constrained so that the minimisation does not push spheres
+  // into their neighbours. It enters the mean overlap of (3.29) only while it is active
+  // (overlapping or carrying a multiplier), so guards do not dilute the statistics.
+  bool guard = false;
+  // A bond: also |d| <= stretch_limit (scaled), the constraint psi = |d|^2 - limit^2 <= 0
+  // with its own multiplier mu, treated like phi (the almost-rigid model's links).
+  // Infinite: no upper bound.
+  double stretch_limit = std::numeric_limits<double>::infinity();
+  double mu = 0.0;
 };
 
 template <int D>
 struct DahaProblem {
-  std::vector<double> inverse_mass;   // per variable, relative to the mean sphere mass
+  // Per variable, relative to the mean sphere mass. A variable with inverse mass 0 never
+  // moves: spheres that stay where they are (neighbours outside the problem) are pairs
+  // with such a variable.
+  std::vector<double> inverse_mass;
   std::vector<DahaPair<D>> pairs;
   // Non-rigid model: W = 1/2 sum over all pairs of variables of |X_a - X_b|^2, whose
   // gradient n (X_a - mean X) costs O(n); `position` holds the starting X_a (scaled,
@@ -41,6 +54,16 @@ struct DahaProblem {
   std::vector<Vec<D>> position;
   double range = 0.0;                 // Delta_W (scaled), for attract_within_range pairs
   int n_spheres = 0;                  // spheres involved: the sqrt(N) of (3.29)
+};
+
+// Receives a copy of every problem the engine hands to the minimiser, before it is solved:
+// the seam through which bench/daha_tune records problems from real runs to tune the
+// parameters offline. Called from several threads at once.
+template <int D>
+class DahaProblemSink {
+ public:
+  virtual ~DahaProblemSink() = default;
+  virtual void record(const DahaProblem<D>& problem) = 0;
 };
 
 struct DahaResult {

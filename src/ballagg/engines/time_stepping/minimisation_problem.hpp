@@ -2,84 +2,125 @@
 // Turns one connected group of colliding clusters into a DAHA problem (daha.hpp), for each
 // cluster model, and reads the solution back as sphere displacements.
 //
-// rigid        variables: the old clusters; pairs: the adhesive set S of this step.
-// non-rigid    variables: every sphere; pairs: S plus the old links of the clusters, all
+// A group is a set of bodies (the clusters of the step joined by the links of its earlier
+// rounds, step_bodies.hpp) and the pairs of S that join them.
+//
+// rigid        variables: the bodies; pairs: the adhesive set S of this round, and guards
+//              (constrained neighbours, see add_guards).
+// non-rigid    variables: every sphere; pairs: S plus the links of the clusters, all
 //              attracting (potential (3.5)) and constrained.
 // almost-rigid variables: every sphere; pairs: every pair closer than Delta_W (plus a
 //              margin), found on a grid of cells ("rectangles") of side Delta_W whose
 //              number grows with the number of spheres; attracting while within Delta_W
 //              (3.30), all constrained (3.31).
+#include <algorithm>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/time_stepping/adhesive_links.hpp"
+#include "ballagg/engines/time_stepping/adhesive_set.hpp"
 #include "ballagg/engines/time_stepping/daha.hpp"
+#include "ballagg/engines/time_stepping/step_bodies.hpp"
 #include "ballagg/spatial/sorted_cell_list.hpp"
 
 namespace ballagg {
-
-struct SpherePair {
-  std::int32_t i, j;    // sphere ids, i < j
-  double lambda;        // multiplier of its constraint (0: not set yet, (3.26) applies)
-  bool active = true;   // false once a fall-back placement replaced it
-};
-
-// One connected group: the old clusters and the pairs of S that join them.
-struct CollisionGroup {
-  std::vector<std::int32_t> clusters;  // sorted
-  std::vector<std::int32_t> pairs;     // indices into S
-};
 
 template <int D>
 struct GroupSolution {
   std::vector<std::int32_t> spheres;   // moved spheres
   std::vector<Vec<D>> shift;           // their displacements (box units)
-  std::vector<double> pair_lambda;     // final multipliers of the group's pairs of S
   std::vector<SpherePair> old_links;   // non-rigid / almost-rigid: old links, new multipliers
   DahaResult result;
   int n_variables = 0;
   double link_stretch = 0.0;           // largest d / sigma - 1 over the old links (non-rigid models)
   bool placed_at_contact = false;      // minimisation abandoned, group moved back to first contact
-  std::vector<SpherePair> contacts;    // then: the touching pairs that replace the group's S pairs
+  bool dissolves_bodies = false;       // the solution undoes the links of the group's bodies
+  std::vector<SpherePair> contacts;    // pairs touching in the solution: the new links
 };
 
 // Everything the builder reads; shared by all groups of a step (read-only).
 template <int D>
 struct ProblemContext {
   const State<D>& state;
-  const std::vector<Vec<D>>& positions;  // current sphere centres (folded into the box)
-  const std::vector<Vec<D>>& step_shift; // how far the minimisations of this step moved them
+  const std::vector<Vec<D>>& positions;  // current sphere centres (folded into the box), as in the state
+  const std::vector<Vec<D>>& step_shift; // per sphere: how far this step's minimisations moved it
   const std::vector<Vec<D>>& flight;     // per cluster: how far this step's free flight moved it
+  const StepBodies& bodies;              // the clusters of the step joined by its links
   const SortedCellList<D>& cells;        // every sphere, binned at most cell_slack from `positions`
   double cell_slack;
-  const std::vector<SpherePair>& S;
+  const AdhesiveSet& S;
   const AdhesiveLinks& links;
   const TimeSteppingSettings& settings;
   double length_scale;                   // mean contact distance 2 <R>
   double delta_w;                        // resolved Delta_W
   double mean_mass;
+  DahaProblemSink<D>* sink = nullptr;    // sees every problem before it is solved (tuning)
 };
 
-// Where the group's spheres start: their current centres, or (backtrack) where free flight
-// put them moved back by the fraction `retreat` of this step's flight.
-struct GroupStart {
-  bool backtrack = false;
-  double retreat = 0.0;
-};
-
-// The fall-back when no minimisation converges: moves the group's old clusters back along
-// their velocities to the latest instant of the step where no two of them overlap by more
-// than eps_c / 2 (bisection), and links the pairs that touch there.
 template <int D>
-GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionGroup& group);
+GroupSolution<D> solve_group(const ProblemContext<D>& ctx, const CollisionGroup& group);
 
+// The clusters of a group's bodies, each with the index of its body in group.bodies,
+// in the order of the bodies.
 template <int D>
-GroupSolution<D> solve_group(const ProblemContext<D>& ctx, const CollisionGroup& group, GroupStart start = {});
+std::vector<std::pair<std::int32_t, std::int32_t>> clusters_of_group(const ProblemContext<D>& ctx,
+                                                                     const CollisionGroup& g) {
+  std::vector<std::pair<std::int32_t, std::int32_t>> out;
+  for (std::size_t b = 0; b < g.bodies.size(); ++b)
+    for (int c : ctx.bodies.clusters_of(g.bodies[b])) out.push_back({c, static_cast<std::int32_t>(b)});
+  return out;
+}
 
-extern template GroupSolution<2> solve_group<2>(const ProblemContext<2>&, const CollisionGroup&, GroupStart);
-extern template GroupSolution<3> solve_group<3>(const ProblemContext<3>&, const CollisionGroup&, GroupStart);
-extern template GroupSolution<2> place_at_contact<2>(const ProblemContext<2>&, const CollisionGroup&);
-extern template GroupSolution<3> place_at_contact<3>(const ProblemContext<3>&, const CollisionGroup&);
+// The index in group.bodies of the body of sphere i, or -1 when it is not in the group.
+template <int D>
+int body_index(const ProblemContext<D>& ctx, const CollisionGroup& g, int i) {
+  const int body = ctx.bodies.body_of(ctx.state.spheres.cluster[i]);
+  const auto it = std::lower_bound(g.bodies.begin(), g.bodies.end(), body);
+  return it != g.bodies.end() && *it == body ? static_cast<int>(it - g.bodies.begin()) : -1;
+}
+
+// Clusters of up to this many spheres are small: the neighbourhood of all their spheres is
+// searched when a group is built or repaired.
+inline constexpr int kSmallClusterSize = 32;
+
+// Calls f(i, j, b) for every sphere i of a queried cluster of the group's bodies and every
+// sphere j of another cluster whose centre may lie within `reach` of i's; b is the index
+// of j's body in the group, or -1 when it is outside. A pair of two queried clusters is
+// reported once. Queried: the clusters of at most max_size spheres, except the group's
+// largest cluster when it is not small. A giant aggregate hit by a monomer moves little
+// (bodies move in inverse proportion to their mass) and is not queried, so that the hit
+// does not cost the giant's size; its pairs with the other members are found from their
+// side, and any contact it makes with spheres outside by the next round of (3.1)-(3.2).
+template <int D, class F>
+void for_each_neighbour_of_group(const ProblemContext<D>& ctx, const CollisionGroup& g, double reach, int max_size,
+                                 F&& f) {
+  const State<D>& s = ctx.state;
+  const auto clusters = clusters_of_group(ctx, g);
+  int largest = clusters.front().first;
+  for (const auto& [c, b] : clusters)
+    if (s.clusters[c].size() > s.clusters[largest].size()) largest = c;
+  auto queried = [&](int c) {
+    const int size = s.clusters[c].size();
+    return size <= max_size && (c != largest || size <= kSmallClusterSize);
+  };
+  for (const auto& [c, b] : clusters) {
+    if (!queried(c)) continue;
+    for (int i : s.clusters[c].members) {
+      // The cell list holds positions up to cell_slack from the current ones.
+      ctx.cells.for_each_within(ctx.positions[i], reach + ctx.cell_slack, [&](int j) {
+        const int cj = s.spheres.cluster[j];
+        if (cj == c) return;
+        const int bj = body_index(ctx, g, j);
+        if (bj >= 0 && queried(cj) && j < i) return;
+        f(i, j, bj);
+      });
+    }
+  }
+}
+
+extern template GroupSolution<2> solve_group<2>(const ProblemContext<2>&, const CollisionGroup&);
+extern template GroupSolution<3> solve_group<3>(const ProblemContext<3>&, const CollisionGroup&);
 
 }  // namespace ballagg

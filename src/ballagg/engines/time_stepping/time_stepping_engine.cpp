@@ -3,14 +3,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
+#include <functional>
 #include <optional>
-#include <unordered_map>
 
-#include "ballagg/core/disjoint_sets.hpp"
 #include "ballagg/core/parallel.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
+#include "ballagg/engines/time_stepping/adhesive_set.hpp"
 #include "ballagg/engines/time_stepping/minimisation_problem.hpp"
+#include "ballagg/engines/time_stepping/retreat.hpp"
+#include "ballagg/engines/time_stepping/step_bodies.hpp"
 #include "ballagg/engines/time_stepping/time_step_rule.hpp"
 #include "ballagg/engines/time_stepping/walls.hpp"
 #include "ballagg/spatial/sorted_cell_list.hpp"
@@ -22,66 +23,71 @@ namespace {
 // kGridMargin R_max during the minimisation before the list must be rebuilt.
 constexpr double kGridMargin = 1.0;
 
-// Pairs of S in one round above which its groups are solved on several threads.
+// Pairs in one round above which its groups are solved on several threads.
 constexpr std::size_t kParallelPairs = 2000;
+// Spheres to check for new contacts above which the search runs on several threads.
+constexpr std::size_t kParallelSpheres = 4096;
 
-std::uint64_t pair_key(int i, int j) {
-  if (i > j) std::swap(i, j);
-  return (static_cast<std::uint64_t>(i) << 32) | static_cast<std::uint32_t>(j);
+// Sorts and removes repeats.
+template <class T, class Less = std::less<T>>
+void sort_unique(std::vector<T>& v, Less less = {}) {
+  std::sort(v.begin(), v.end(), less);
+  v.erase(std::unique(v.begin(), v.end(), [&](const T& a, const T& b) { return !less(a, b) && !less(b, a); }),
+          v.end());
 }
 
-// The clusters of the spheres of the pairs, sorted, each once.
-template <int D>
-std::vector<std::int32_t> clusters_of(const State<D>& s, const std::vector<SpherePair>& pairs) {
-  std::vector<std::int32_t> out;
-  for (const SpherePair& p : pairs) {
-    out.push_back(s.spheres.cluster[p.i]);
-    out.push_back(s.spheres.cluster[p.j]);
-  }
-  std::sort(out.begin(), out.end());
-  out.erase(std::unique(out.begin(), out.end()), out.end());
-  return out;
-}
+bool pair_less(const SpherePair& a, const SpherePair& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; }
 
+// One step of §3, as named stages: advect (steps 1-2), detect the overlaps (2a), resolve
+// them by the loop (3.1)-(3.2) (2b-2e), commit the new clusters and their velocities (3).
 template <int D>
 class TimeSteppingEngine final : public Engine<D> {
  public:
-  explicit TimeSteppingEngine(const TimeSteppingSettings& settings) : settings_(settings) {}
+  TimeSteppingEngine(const TimeSteppingSettings& settings, DahaProblemSink<D>* sink)
+      : settings_(settings), sink_(sink) {}
   std::string_view name() const override { return "ts"; }
   RunResult run(State<D>& s, const StopCriteria& stop, RunObserver<D>& observer) override;
 
  private:
+  void prepare(const State<D>& s);
   void advect(State<D>& s, double dt);
   void bin(const State<D>& s);
-  std::vector<SpherePair> overlapping_pairs(const State<D>& s) const;
-  int resolve(State<D>& s, std::vector<SpherePair> S);
-  GroupSolution<D> solve_or_place(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
-  ProblemContext<D> context(const State<D>& s, const std::vector<SpherePair>& S) const {
-    return {s, positions_, step_shift_, flight_, *cells_, cell_slack_, S, links_, settings_, length_scale_, delta_w_, mean_mass_};
-  }
-  std::vector<CollisionGroup> groups(const State<D>& s, const std::vector<SpherePair>& S,
-                                     const std::vector<char>& dirty_pair);
-  void apply(const GroupSolution<D>& g, const CollisionGroup& group, std::vector<SpherePair>& S,
-             std::unordered_map<std::uint64_t, std::int32_t>& in_S, std::vector<int>& moved);
+  void rebin();
+  void detect_overlaps(const State<D>& s);
+  void resolve(const State<D>& s);
+  GroupSolution<D> repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
+  void apply(const GroupSolution<D>& solution, std::vector<int>& moved);
+  std::vector<SpherePair> new_overlaps(const State<D>& s, std::vector<int>& moved) const;
+  bool end_round(const State<D>& s, const std::vector<CollisionGroup>& groups,
+                 const std::vector<GroupSolution<D>>& solutions, const std::vector<SpherePair>& overlaps);
+  int commit(State<D>& s);
   template <class F>
-  void for_each_contact(const State<D>& s, std::vector<int>& spheres, F&& f) const;
+  void for_each_contact(const State<D>& s, const std::vector<int>& spheres, F&& f) const;
   double largest_overlap(const State<D>& s, std::vector<int>& spheres) const;
-  int find_new_pairs(const State<D>& s, std::vector<int>& moved, std::vector<SpherePair>& S,
-                     std::unordered_map<std::uint64_t, std::int32_t>& in_S, std::vector<char>& dirty_pair);
-  int commit(State<D>& s, const std::vector<SpherePair>& S);
+
+  ProblemContext<D> context(const State<D>& s) const {
+    return {s, positions_, step_shift_, flight_, bodies_, *cells_, cell_slack_, S_, links_, settings_,
+            length_scale_, delta_w_, mean_mass_, sink_};
+  }
+  bool rigid() const { return settings_.model == TsModel::rigid; }
+  int body_of_sphere(const State<D>& s, int i) const { return bodies_.body_of(s.spheres.cluster[i]); }
 
   TimeSteppingSettings settings_;
+  DahaProblemSink<D>* sink_;
   EngineCounters counters_;
   std::optional<Box<D>> box_;
-  std::vector<Vec<D>> positions_;       // sphere centres at the current time, in the box
-  std::vector<Vec<D>> step_shift_;      // displacement of each sphere by this step's minimisation
-  std::vector<Vec<D>> flight_;          // displacement of each cluster by this step's free flight
+  std::vector<Vec<D>> positions_;            // sphere centres at the current time, in the box
+  std::vector<Vec<D>> step_shift_;           // per sphere: its displacement by this step's minimisations
+  std::vector<Vec<D>> moved_since_binning_;  // per sphere, for the staleness of the cell list
+  std::vector<Vec<D>> flight_;               // per cluster: its displacement by this step's free flight
   std::optional<SortedCellList<D>> cells_;
-  double cell_slack_ = 0.0;             // how far a sphere may move before re-binning
-  bool stale_cells_ = false;            // some sphere moved farther than that this step
-  AdhesiveLinks links_;
-  DisjointSets sets_;
-  std::vector<std::int32_t> group_of_root_;  // per cluster id: index of its group in groups()
+  double cell_slack_ = 0.0;                  // how far a sphere may move before re-binning
+  bool stale_cells_ = false;                 // some sphere moved farther than that
+  AdhesiveSet S_;                            // the adhesive set of a round and its groups (of bodies)
+  StepBodies bodies_;                        // the clusters of the step, joined by its links
+  AdhesiveLinks links_;                      // per-sphere models: the links of the old clusters
+  PairIndex round_contacts_;                 // the pairs the solutions of a round leave touching
+  std::vector<int> moved_in_step_;           // spheres moved by this step's minimisations
   double length_scale_ = 1.0, delta_w_ = 0.0, mean_mass_ = 1.0;
 };
 
@@ -90,18 +96,7 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
   using clock = std::chrono::steady_clock;
   const auto started = clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - started).count(); };
-  const int n = s.n_spheres();
-  box_ = s.box;
-  length_scale_ = 2.0 * s.mean_radius();
-  delta_w_ = settings_.delta_w.value_or(4.0 * s.mean_radius());
-  mean_mass_ = s.total_mass() / n;
-  positions_.resize(n);
-  step_shift_.assign(n, Vec<D>::Zero());
-  cells_.emplace(s.box, (2.0 + kGridMargin) * s.max_radius(), n);
-  cell_slack_ = cells_->cell_size() - 2.0 * s.max_radius();
-  if (settings_.model != TsModel::rigid) links_ = AdhesiveLinks(n);
-  sets_ = DisjointSets(static_cast<int>(s.clusters.size()));
-  group_of_root_.assign(s.clusters.size(), -1);
+  prepare(s);
   const TimeStepRule rule(settings_, s);
 
   RunResult result;
@@ -120,13 +115,14 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
     observer.before_event(s, t);
     advect(s, t - s.time);
     bin(s);
-    const int merges = resolve(s, overlapping_pairs(s));
+    detect_overlaps(s);
+    resolve(s);
+    EventRecord record;
+    record.merges = commit(s);
     ++counters_.steps;
     ++counters_.events;
-    EventRecord record;
     record.time = s.time;
     record.kind = EventKind::time_step;
-    record.merges = merges;
     observer.after_event(s, record, counters_);
   }
   // The final state lies inside the walls (the last minimisation may have pushed a cluster
@@ -139,8 +135,26 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
   return result;
 }
 
-// Step 1 and 2: free flight (positions are lazy: O(1) per cluster), then walls.
-// Records each cluster's displacement (walls included), the way back for backtracking.
+template <int D>
+void TimeSteppingEngine<D>::prepare(const State<D>& s) {
+  const int n = s.n_spheres();
+  const int n_cluster_ids = static_cast<int>(s.clusters.size());
+  box_ = s.box;
+  length_scale_ = 2.0 * s.mean_radius();
+  delta_w_ = settings_.delta_w.value_or(4.0 * s.mean_radius());
+  mean_mass_ = s.total_mass() / n;
+  positions_.resize(n);
+  step_shift_.assign(n, Vec<D>::Zero());
+  moved_since_binning_.assign(n, Vec<D>::Zero());
+  cells_.emplace(s.box, (2.0 + kGridMargin) * s.max_radius(), n);
+  cell_slack_ = cells_->cell_size() - 2.0 * s.max_radius();
+  S_ = AdhesiveSet(n_cluster_ids);
+  bodies_ = StepBodies(n_cluster_ids);
+  if (!rigid()) links_ = AdhesiveLinks(n);
+}
+
+// Steps 1 and 2: free flight (positions are lazy: O(1) per cluster), then walls.
+// Records each cluster's displacement (walls included), the way back for a retreat.
 template <int D>
 void TimeSteppingEngine<D>::advect(State<D>& s, double dt) {
   const double before = s.time;
@@ -158,12 +172,20 @@ void TimeSteppingEngine<D>::bin(const State<D>& s) {
   const int n = s.n_spheres();
 #pragma omp parallel for schedule(static)
   for (int i = 0; i < n; ++i) positions_[i] = s.position(i, s.time);
-  cells_->build(positions_);
+  rebin();
 }
 
-// Step 3: pairs of spheres of different clusters that overlap or touch (phi >= 0).
 template <int D>
-std::vector<SpherePair> TimeSteppingEngine<D>::overlapping_pairs(const State<D>& s) const {
+void TimeSteppingEngine<D>::rebin() {
+  cells_->build(positions_);
+  std::fill(moved_since_binning_.begin(), moved_since_binning_.end(), Vec<D>::Zero());
+  stale_cells_ = false;
+}
+
+// Step 2a: S starts as the pairs of spheres of different clusters that overlap or touch
+// (phi >= 0) after the free flight.
+template <int D>
+void TimeSteppingEngine<D>::detect_overlaps(const State<D>& s) {
   const SortedCellList<D>& cells = *cells_;
   const std::vector<std::int32_t>& order = cells.order();
   const int n = static_cast<int>(order.size());
@@ -217,150 +239,153 @@ std::vector<SpherePair> TimeSteppingEngine<D>::overlapping_pairs(const State<D>&
   }
   std::vector<SpherePair> pairs;
   for (const auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
-  // Sorted: the same list whatever the number of threads.
-  std::sort(pairs.begin(), pairs.end(), [](const SpherePair& a, const SpherePair& b) {
-    return a.i != b.i ? a.i < b.i : a.j < b.j;
-  });
-  return pairs;
+  std::sort(pairs.begin(), pairs.end(), pair_less);  // the same S whatever the number of threads
+  for (const SpherePair& p : pairs) S_.add(p.i, p.j, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
 }
 
-// Step 4: the loop (3.1)-(3.2). Minimise over S, add the pairs the minimisation brought
-// into contact, repeat until S stops changing. Groups of clusters joined by S are
-// independent problems, solved in parallel; only groups that gained a pair are solved
-// again (the others are already at equilibrium). Step 5 (commit) merges and sets the
-// velocities.
+// Steps 2b-2e, the loop (3.1)-(3.2). Each round minimises every group of S (the bodies
+// joined by S), links the pairs the solutions leave touching (their bodies move as one
+// from then on), and takes as the next S the pairs the minimisation brought into contact.
+// An overlap inside a body dissolves it: its links rejoin S with that overlap, and its
+// clusters are solved again separately. The loop ends when a round brings no new contact;
+// max_link_rounds bounds it.
 template <int D>
-int TimeSteppingEngine<D>::resolve(State<D>& s, std::vector<SpherePair> S) {
-  if (S.empty()) return 0;
-  std::unordered_map<std::uint64_t, std::int32_t> in_S;  // pair key -> index in S
-  for (std::size_t k = 0; k < S.size(); ++k) in_S.emplace(pair_key(S[k].i, S[k].j), static_cast<std::int32_t>(k));
-  std::vector<char> dirty(S.size(), 1);
-  std::vector<int> moved, moved_this_step;  // spheres moved in the current round / step
+void TimeSteppingEngine<D>::resolve(const State<D>& s) {
+  std::vector<int> moved;
   for (int round = 1;; ++round) {
-    const std::vector<CollisionGroup> gs = groups(s, S, dirty);
-    const ProblemContext<D> ctx = context(s, S);
-    std::vector<GroupSolution<D>> solutions(gs.size());
+    const std::vector<CollisionGroup> groups = S_.take_changed_groups();
+    if (groups.empty()) break;
+    if (round > 1) ++counters_.link_rounds;
+    const bool out_of_rounds = round >= settings_.max_link_rounds;
+    if (out_of_rounds) ++counters_.rounds_exhausted;
+    const ProblemContext<D> ctx = context(s);
+    std::vector<GroupSolution<D>> solutions(groups.size());
     std::size_t work = 0;
-    for (const CollisionGroup& g : gs) work += g.pairs.size();
+    for (const CollisionGroup& g : groups) work += g.pairs.size();
     // Threads pay off only when there is enough work to share (starting them costs more
     // than solving a few small groups).
-#pragma omp parallel for schedule(dynamic) if (gs.size() > 1 && work >= kParallelPairs)
-    for (std::size_t k = 0; k < gs.size(); ++k) solutions[k] = solve_or_place(ctx, gs[k]);
-    moved.clear();
-    for (std::size_t k = 0; k < gs.size(); ++k) apply(solutions[k], gs[k], S, in_S, moved);
-    if (stale_cells_) {  // a sphere moved farther than the cells' slack: bin again
-      cells_->build(positions_);
-      stale_cells_ = false;
+    if (!out_of_rounds) {
+#pragma omp parallel for schedule(dynamic) if (groups.size() > 1 && work >= kParallelPairs)
+      for (std::size_t k = 0; k < groups.size(); ++k) solutions[k] = solve_group(ctx, groups[k]);
     }
-    dirty.assign(S.size(), 0);
-    for (const CollisionGroup& g : gs)
-      for (int k : g.pairs) { moved.push_back(S[k].i); moved.push_back(S[k].j); }
-    moved_this_step.insert(moved_this_step.end(), moved.begin(), moved.end());
-    // Only spheres moved in this round can have met new partners.
-    if (find_new_pairs(s, moved, S, in_S, dirty) == 0) break;
-    ++counters_.link_rounds;
-    if (round + 1 >= settings_.max_link_rounds) {
-      // Out of rounds: the groups that gained pairs are placed at first contact (no
-      // minimisation, so no new contacts among them).
-      ++counters_.rounds_exhausted;
-      const ProblemContext<D> ctx = context(s, S);
-      for (const CollisionGroup& g : groups(s, S, dirty)) apply(place_at_contact(ctx, g), g, S, in_S, moved_this_step);
+    moved.clear();
+    for (std::size_t k = 0; k < groups.size(); ++k)
+      if (solutions[k].result.converged) apply(solutions[k], moved);
+    // The groups the minimisation did not solve are repaired one after the other, each
+    // seeing where everything else has gone.
+    for (std::size_t k = 0; k < groups.size(); ++k) {
+      if (solutions[k].result.converged) continue;
+      if (stale_cells_) rebin();
+      const int iterations = solutions[k].result.iterations;
+      solutions[k] = repair(context(s), groups[k]);
+      solutions[k].result.iterations += iterations;
+      apply(solutions[k], moved);
+    }
+    if (stale_cells_) rebin();
+    moved_in_step_.insert(moved_in_step_.end(), moved.begin(), moved.end());
+    if (out_of_rounds) {
+      end_round(s, groups, solutions, {});
+      S_.clear();
+      break;
+    }
+    round_contacts_.clear();
+    for (const GroupSolution<D>& g : solutions)
+      for (const SpherePair& c : g.contacts) round_contacts_.insert(c.i, c.j, 0);
+    if (!end_round(s, groups, solutions, new_overlaps(s, moved))) {
+      ++counters_.rounds_exhausted;  // stalled: what is left overlapping waits for the next step
+      S_.clear();
       break;
     }
   }
   // The largest overlap left around everything this step moved.
-  counters_.max_residual_overlap = std::max(counters_.max_residual_overlap, largest_overlap(s, moved_this_step));
-  return commit(s, S);
+  counters_.max_residual_overlap = std::max(counters_.max_residual_overlap, largest_overlap(s, moved_in_step_));
 }
 
-// A group whose minimisation does not converge within max_iterations (typically a sphere
-// that flew deep into a pocket of another cluster, where no nearby configuration is free of
-// overlaps) is moved back to the instant of its first contact instead (place_at_contact).
+// The fall-back for a group the minimisation did not solve: every cluster of its bodies
+// moved back along its own flight (see retreat.hpp). The bodies are dissolved first: the
+// retreat undoes what joined them.
 template <int D>
-GroupSolution<D> TimeSteppingEngine<D>::solve_or_place(const ProblemContext<D>& ctx, const CollisionGroup& group) const {
-  GroupSolution<D> solution = solve_group(ctx, group);
-  if (solution.result.converged) return solution;
-  GroupSolution<D> placed = place_at_contact(ctx, group);
-  placed.result.iterations = solution.result.iterations;
-  return placed;
+GroupSolution<D> TimeSteppingEngine<D>::repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const {
+  return place_at_contact(ctx, group);
 }
 
-// The connected groups of clusters joined by S that contain a pair marked dirty, each
-// listed by increasing cluster id, in the order of their lowest cluster id.
+// Moves the spheres of a solution in positions_ (the state is moved at commit).
 template <int D>
-std::vector<CollisionGroup> TimeSteppingEngine<D>::groups(const State<D>& s, const std::vector<SpherePair>& S,
-                                                           const std::vector<char>& dirty_pair) {
-  const std::vector<std::int32_t> touched = clusters_of(s, S);
-  for (int c : touched) sets_.reset(c);
-  for (const SpherePair& p : S)
-    if (p.active) sets_.unite(s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
-  // Only the groups holding a dirty pair are built (the others are at equilibrium).
-  for (int c : touched) group_of_root_[sets_.find(c)] = -1;
-  std::vector<CollisionGroup> out;
-  for (std::size_t k = 0; k < S.size(); ++k) {
-    if (!S[k].active || !dirty_pair[k]) continue;
-    std::int32_t& g = group_of_root_[sets_.find(s.spheres.cluster[S[k].i])];
-    if (g < 0) {
-      g = static_cast<std::int32_t>(out.size());
-      out.emplace_back();
-    }
-  }
-  for (int c : touched) {
-    const std::int32_t g = group_of_root_[sets_.find(c)];
-    if (g >= 0) out[g].clusters.push_back(c);  // touched is sorted: clusters come sorted
-  }
-  for (std::size_t k = 0; k < S.size(); ++k) {
-    if (!S[k].active) continue;
-    const std::int32_t g = group_of_root_[sets_.find(s.spheres.cluster[S[k].i])];
-    if (g >= 0) out[g].pairs.push_back(static_cast<std::int32_t>(k));
-  }
-  std::sort(out.begin(), out.end(), [](const CollisionGroup& a, const CollisionGroup& b) {
-    return a.clusters.front() < b.clusters.front();
-  });
-  return out;
-}
-
-template <int D>
-void TimeSteppingEngine<D>::apply(const GroupSolution<D>& g, const CollisionGroup& group, std::vector<SpherePair>& S,
-                                  std::unordered_map<std::uint64_t, std::int32_t>& in_S, std::vector<int>& moved) {
+void TimeSteppingEngine<D>::apply(const GroupSolution<D>& g, std::vector<int>& moved) {
   ++counters_.minimisations;
   counters_.daha_iterations += g.result.iterations;
   counters_.max_link_stretch = std::max(counters_.max_link_stretch, g.link_stretch);
-  if (g.placed_at_contact) {
-    ++counters_.placed_at_contact;
-    for (int k : group.pairs) S[k].active = false;
-    for (const SpherePair& c : g.contacts) {
-      const auto [it, added] = in_S.emplace(pair_key(c.i, c.j), static_cast<std::int32_t>(S.size()));
-      if (added) S.push_back(c);
-      else S[it->second] = c;
-    }
-  } else {
-    for (std::size_t k = 0; k < group.pairs.size(); ++k) S[group.pairs[k]].lambda = g.pair_lambda[k];
-  }
+  if (g.placed_at_contact) ++counters_.placed_at_contact;
   for (const SpherePair& l : g.old_links) links_.add(l.i, l.j, l.lambda);
   const Box<D>& box = *box_;
   for (std::size_t k = 0; k < g.spheres.size(); ++k) {
     const int i = g.spheres[k];
     positions_[i] = box.wrap(positions_[i] + g.shift[k]);
     step_shift_[i] += g.shift[k];
-    stale_cells_ = stale_cells_ || step_shift_[i].norm() > cell_slack_;
+    moved_since_binning_[i] += g.shift[k];
+    stale_cells_ = stale_cells_ || moved_since_binning_[i].norm() > cell_slack_;
     moved.push_back(i);
   }
 }
 
+// The end of a round: the solutions' touching pairs become links (a retreat first
+// dissolves the bodies of its group), then the new overlaps form the next S; one inside a
+// body dissolves it and takes its links along. Returns false when the round changed
+// nothing that the next one could build on (no new link and no new pair: it would repeat).
+template <int D>
+bool TimeSteppingEngine<D>::end_round(const State<D>& s, const std::vector<CollisionGroup>& groups,
+                                      const std::vector<GroupSolution<D>>& solutions,
+                                      const std::vector<SpherePair>& overlaps) {
+  const double eps_c = settings_.daha.eps_c;
+  auto touching = [&](const SpherePair& p) {
+    const double sigma = s.spheres.radius[p.i] + s.spheres.radius[p.j];
+    return std::abs(s.box.separation(positions_[p.i], positions_[p.j]).norm() / sigma - 1.0) <= eps_c;
+  };
+  std::vector<SpherePair> next;
+  for (std::size_t k = 0; k < groups.size(); ++k)
+    if (solutions[k].dissolves_bodies)
+      for (int body : groups[k].bodies) bodies_.dissolve(body);
+  bool progress = false;
+  for (const GroupSolution<D>& g : solutions)
+    for (const SpherePair& p : g.contacts) {
+      if (!touching(p)) continue;
+      const int ci = s.spheres.cluster[p.i], cj = s.spheres.cluster[p.j];
+      progress = progress || bodies_.body_of(ci) != bodies_.body_of(cj);
+      bodies_.link(p, ci, cj);
+    }
+  S_.clear();
+  for (const SpherePair& p : overlaps) {
+    const int body = body_of_sphere(s, p.i);
+    if (body == body_of_sphere(s, p.j))
+      for (const SpherePair& l : bodies_.dissolve(body)) next.push_back(l);
+    next.push_back(p);
+  }
+  for (const SpherePair& p : next) {
+    const int bi = body_of_sphere(s, p.i), bj = body_of_sphere(s, p.j);
+    if (bi == bj && rigid()) continue;  // a link of a body that was dissolved and formed again
+    if (S_.add(p.i, p.j, bi, bj)) {
+      S_.pair(static_cast<std::int32_t>(S_.pairs().size()) - 1).lambda = p.lambda;
+      progress = true;
+    }
+  }
+  return progress || S_.empty();
+}
+
 // Calls f(i, j, d, sigma) for every pair of a sphere of `spheres` (sorted, each once) and
 // another sphere with phi >= 0 (d <= sigma), spheres of one cluster excepted in the rigid
-// model (their distances never change).
+// model (their distances never change). With several threads, calls for different i
+// overlap.
 template <int D>
 template <class F>
-void TimeSteppingEngine<D>::for_each_contact(const State<D>& s, std::vector<int>& spheres, F&& f) const {
-  std::sort(spheres.begin(), spheres.end());
-  spheres.erase(std::unique(spheres.begin(), spheres.end()), spheres.end());
-  const bool rigid = settings_.model == TsModel::rigid;
-  for (int i : spheres) {
+void TimeSteppingEngine<D>::for_each_contact(const State<D>& s, const std::vector<int>& spheres, F&& f) const {
+  const bool same_cluster_fixed = rigid();
+  const std::int64_t n = static_cast<std::int64_t>(spheres.size());
+#pragma omp parallel for schedule(dynamic, 256) if (n >= static_cast<std::int64_t>(kParallelSpheres))
+  for (std::int64_t k = 0; k < n; ++k) {
+    const int i = spheres[k];
     const int ci = s.spheres.cluster[i];
     cells_->for_each_near(positions_[i], [&](int j) {
-      if (j == i || (rigid && s.spheres.cluster[j] == ci)) return;
+      if (j == i || (same_cluster_fixed && s.spheres.cluster[j] == ci)) return;
       const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
       const double d = s.box.separation(positions_[i], positions_[j]).norm();
       if (d <= sigma) f(i, j, d, sigma);
@@ -371,75 +396,72 @@ void TimeSteppingEngine<D>::for_each_contact(const State<D>& s, std::vector<int>
 // The largest relative overlap between a sphere of `spheres` and any other.
 template <int D>
 double TimeSteppingEngine<D>::largest_overlap(const State<D>& s, std::vector<int>& spheres) const {
-  double largest = 0.0;
-  for_each_contact(s, spheres, [&](int, int, double d, double sigma) { largest = std::max(largest, 1.0 - d / sigma); });
-  return largest;
-}
-
-// (3.2): pairs brought to contact (phi >= 0) by the minimisation, not yet in S nor linked.
-template <int D>
-int TimeSteppingEngine<D>::find_new_pairs(const State<D>& s, std::vector<int>& moved, std::vector<SpherePair>& S,
-                                          std::unordered_map<std::uint64_t, std::int32_t>& in_S,
-                                          std::vector<char>& dirty_pair) {
-  const bool rigid = settings_.model == TsModel::rigid;
-  std::vector<SpherePair> found;
-  int reactivated = 0;
-  for_each_contact(s, moved, [&](int i, int j, double d, double sigma) {
-    const auto known = in_S.find(pair_key(i, j));
-    const bool found_now = known != in_S.end() && known->second >= static_cast<std::int32_t>(S.size());
-    // An old link squeezed beyond eps_c joins S again, so that its group is solved again.
-    const bool settled_link = !rigid && links_.linked(i, j) && 1.0 - d / sigma <= settings_.daha.eps_c;
-    if (found_now || (known != in_S.end() && S[known->second].active) || settled_link) return;
-    if (known != in_S.end()) {  // replaced by a fall-back placement, overlapping again
-      S[known->second].active = true;
-      S[known->second].lambda = 0.0;
-      dirty_pair[known->second] = 1;
-      ++reactivated;
-      return;
-    }
-    in_S.emplace(pair_key(i, j), static_cast<std::int32_t>(S.size() + found.size()));
-    found.push_back({std::min(i, j), std::max(i, j), 0.0});
+  sort_unique(spheres);
+  std::vector<double> largest(max_threads(), 0.0);
+  for_each_contact(s, spheres, [&](int, int, double d, double sigma) {
+    double& l = largest[thread_index()];
+    l = std::max(l, 1.0 - d / sigma);
   });
-  S.insert(S.end(), found.begin(), found.end());
-  dirty_pair.resize(S.size(), 1);
-  return static_cast<int>(found.size()) + reactivated;
+  return *std::max_element(largest.begin(), largest.end());
 }
 
-// Step 5: move the state's spheres to their minimised positions, merge the clusters joined
-// by S (velocities by rule 2.9, mass-weighted, pair by pair).
+// (3.2): the pairs brought to contact (phi >= 0) by this round, sorted. A pair of S, or
+// one a solution left touching, is settled while it touches (within eps_c); pushed deeper
+// (by another group's solution, or left so by a repair) it counts again. In the per-sphere
+// models an old link counts again when it is squeezed beyond eps_c, so that its group is
+// solved again.
 template <int D>
-int TimeSteppingEngine<D>::commit(State<D>& s, const std::vector<SpherePair>& S) {
-  const std::vector<std::int32_t> touched = clusters_of(s, S);  // inactive pairs' too: they moved
-  for (int c : touched) {
-    const std::vector<std::int32_t>& members = s.clusters[c].members;
-    if (settings_.model == TsModel::rigid) {
-      const Vec<D> shift = step_shift_[members.front()];
-      if (shift != Vec<D>::Zero()) s.translate(c, shift, s.time);
+std::vector<SpherePair> TimeSteppingEngine<D>::new_overlaps(const State<D>& s, std::vector<int>& moved) const {
+  sort_unique(moved);
+  std::vector<std::vector<SpherePair>> found(max_threads());
+  const double eps_c = settings_.daha.eps_c;
+  for_each_contact(s, moved, [&](int i, int j, double d, double sigma) {
+    const bool settled = S_.contains(i, j) || round_contacts_.find(i, j) != PairIndex::kAbsent ||
+                         (!rigid() && links_.linked(i, j));
+    if (settled && 1.0 - d / sigma <= eps_c) return;
+    if (rigid() && body_of_sphere(s, i) == body_of_sphere(s, j) && 1.0 - d / sigma <= eps_c) return;
+    found[thread_index()].push_back({std::min(i, j), std::max(i, j), 0.0});
+  });
+  std::vector<SpherePair> pairs;
+  for (const auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
+  sort_unique(pairs, pair_less);  // found from both ends when both moved
+  return pairs;
+}
+
+// Step 3: the state's clusters are moved to their minimised positions, and the links of
+// the step merge them, pair by pair, with the mass-weighted velocity of rule (2.9).
+// Returns the merges.
+template <int D>
+int TimeSteppingEngine<D>::commit(State<D>& s) {
+  sort_unique(moved_in_step_);
+  for (std::size_t k = 0; k < moved_in_step_.size(); ++k) {
+    const int i = moved_in_step_[k];
+    const int c = s.spheres.cluster[i];
+    if (rigid()) {
+      // Every sphere of a cluster has the same shift: one translation.
+      if (s.clusters[c].members.front() == i) s.translate(c, step_shift_[i], s.time);
     } else {
-      for (int i : members) s.displace_sphere(i, step_shift_[i]);
-      s.refresh_extent(c);
+      s.displace_sphere(i, step_shift_[i]);
     }
-    for (int i : members) step_shift_[i].setZero();
   }
-  // A pair of S becomes an adhesive link, and merges its clusters, when it touches after
-  // the minimisation: d <= sigma (1 + eps_c). (A rigid cluster held by several pairs can
-  // settle with some of them apart; those are not contacts.)
+  if (!rigid()) {
+    std::vector<std::int32_t> clusters;
+    for (int i : moved_in_step_) clusters.push_back(s.spheres.cluster[i]);
+    sort_unique(clusters);
+    for (int c : clusters) s.refresh_extent(c);
+  }
   int merges = 0;
-  const double reach = 1.0 + settings_.daha.eps_c;
-  for (const SpherePair& p : S) {
-    if (!p.active) continue;
-    const double sigma = s.spheres.radius[p.i] + s.spheres.radius[p.j];
-    const double d = s.box.separation(s.unwrapped_position(p.i, s.time), s.unwrapped_position(p.j, s.time)).norm();
-    // Apart: not a contact. Overlapping beyond eps_c (only when max_link_rounds ran out):
-    // left to the next step rather than frozen into a rigid cluster.
-    if (d > reach * sigma || d < (1.0 - settings_.daha.eps_c) * sigma) continue;
-    if (settings_.model != TsModel::rigid) links_.add(p.i, p.j, p.lambda);
+  for (const SpherePair& p : bodies_.all_links()) {
+    if (!rigid()) links_.add(p.i, p.j, p.lambda);
     if (s.spheres.cluster[p.i] == s.spheres.cluster[p.j]) continue;
     ++counters_.collisions;
     s.merge(p.i, p.j, s.time);
     ++merges;
   }
   counters_.merges += merges;
+  for (int i : moved_in_step_) step_shift_[i].setZero();
+  moved_in_step_.clear();
+  bodies_.clear();
   // A cluster the minimisation pushed partly through a wall is moved back at the start of
   // the next step, before the overlap detection (moving it now could create overlaps).
   return merges;
@@ -448,11 +470,11 @@ int TimeSteppingEngine<D>::commit(State<D>& s, const std::vector<SpherePair>& S)
 }  // namespace
 
 template <int D>
-std::unique_ptr<Engine<D>> make_time_stepping_engine(const TimeSteppingSettings& settings) {
-  return std::make_unique<TimeSteppingEngine<D>>(settings);
+std::unique_ptr<Engine<D>> make_time_stepping_engine(const TimeSteppingSettings& settings, DahaProblemSink<D>* sink) {
+  return std::make_unique<TimeSteppingEngine<D>>(settings, sink);
 }
 
-template std::unique_ptr<Engine<2>> make_time_stepping_engine<2>(const TimeSteppingSettings&);
-template std::unique_ptr<Engine<3>> make_time_stepping_engine<3>(const TimeSteppingSettings&);
+template std::unique_ptr<Engine<2>> make_time_stepping_engine<2>(const TimeSteppingSettings&, DahaProblemSink<2>*);
+template std::unique_ptr<Engine<3>> make_time_stepping_engine<3>(const TimeSteppingSettings&, DahaProblemSink<3>*);
 
 }  // namespace ballagg

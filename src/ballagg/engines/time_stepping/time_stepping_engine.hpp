@@ -6,11 +6,14 @@
 #include <memory>
 
 #include "ballagg/engines/engine.hpp"
+#include "ballagg/engines/time_stepping/daha.hpp"
 #include "ballagg/engines/time_stepping/ts_settings.hpp"
 
 namespace ballagg {
 
+// With a sink, every minimisation problem is handed to it before it is solved (tuning).
 template <int D>
-std::unique_ptr<Engine<D>> make_time_stepping_engine(const TimeSteppingSettings& settings);
+std::unique_ptr<Engine<D>> make_time_stepping_engine(const TimeSteppingSettings& settings,
+                                                     DahaProblemSink<D>* sink = nullptr);
 
 }  // namespace ballagg

@@ -35,6 +35,9 @@ struct DahaParameters {
   double eps_s = 1e-4;      // (3.27): largest move of a sphere in one iteration, in diameters
   double eps_c = 1e-3;      // (3.28): largest relative overlap left, 1 - d / (R_i + R_j)
   int max_iterations = 3000;  // per minimisation; reaching it is counted, not an error
+  // A minimisation whose worst constraint violation (above eps_c) has not fallen below 0.9
+  // of its best for this many iterations is given up (0: never): it is not converging.
+  int stall_iterations = 0;
 };
 
 struct TimeSteppingSettings {
@@ -44,6 +47,9 @@ struct TimeSteppingSettings {
   double dt_growth = 2.0;
   // Range Delta_W of the local attraction (3.30), a length; default 4 <R> as in the paper.
   std::optional<double> delta_w;
+  // Almost-rigid: a link (adhesive bond) may stretch to (1 + bond_stretch) (R_i + R_j) and
+  // no further; what keeps an old cluster from drifting apart.
+  double bond_stretch = 0.1;
   int max_link_rounds = 50;    // repetitions of (3.1)-(3.2) within one step before giving up
   DahaParameters daha;
 };

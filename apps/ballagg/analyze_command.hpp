@@ -1,0 +1,18 @@
+#pragma once
+// `ballagg analyze`: the aggregate analysis of a run's final state (docs/analysis.md).
+#include <CLI/CLI.hpp>
+
+#include "ballagg/run/analyze_run.hpp"
+
+namespace ballagg::cli {
+
+struct AnalyzeCommand {
+  CLI::App* command = nullptr;
+  AnalyzeRequest request;
+};
+
+void add_analyze_command(CLI::App& app, AnalyzeCommand& analyze);
+// Runs it (throws InputError on bad input); returns the exit status.
+int run_analyze_command(const AnalyzeCommand& analyze);
+
+}  // namespace ballagg::cli

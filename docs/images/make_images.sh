@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Regenerates the pictures of README.md and docs/pictures.md (run from the repository root
+# after `make build`). The runs take a few seconds each (the ts one about a minute). The
+# PNGs are then reduced to 256 colours with Debian's python3-pil (not installed by
+# scripts/setup: only needed here) to keep each under 300 kB.
+set -euo pipefail
+B=build/bin/ballagg
+W=$(mktemp -d)
+trap 'rm -rf "$W"' EXIT
+common=(--set system.n=10000 --set system.boundary=periodic --set system.volume_fraction=0.2 --set stop.clusters=150 --seed 2)
+$B run -q --out "$W/ed2d" "${common[@]}"
+OMP_NUM_THREADS=1 $B run -q --out "$W/ts2d" --set engine.kind=ts "${common[@]}"
+$B run -q --out "$W/ed3d" --set system.dimension=3 --set system.n=6000 --set system.boundary=periodic \
+  --set system.volume_fraction=0.1 --set stop.clusters=80 --seed 3
+$B run -q --out "$W/agg3d" --set system.dimension=3 --set system.n=2000 --set system.boundary=periodic \
+  --set system.volume_fraction=0.05 --seed 4
+$B render "$W/ed2d" --png docs/images/ed_2d.png --width 640
+$B render "$W/ts2d" --png docs/images/ts_2d.png --width 640
+$B render "$W/ed3d" --png docs/images/ed_3d_box.png --width 640
+$B render "$W/agg3d" --png docs/images/ed_3d_aggregate.png --pov "$W/aggregate.pov" --width 640
+povray +W640 +H640 +A0.3 -D -V +O"docs/images/ed_3d_aggregate_povray.png" "$W/aggregate.pov" 2>/dev/null
+for f in docs/images/*.png; do
+  /usr/bin/python3 -c "import sys; from PIL import Image
+Image.open(sys.argv[1]).convert('RGB').quantize(256, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE).save(sys.argv[1], optimize=True)" "$f"
+done
+ls -l docs/images/*.png

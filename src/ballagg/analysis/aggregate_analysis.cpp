@@ -1,0 +1,104 @@
+#include "ballagg/analysis/aggregate_analysis.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+
+#include "ballagg/analysis/contacts.hpp"
+
+namespace ballagg {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+template <int D>
+std::vector<Vec<D>> gather(std::span<const std::int32_t> members, const std::vector<Vec<D>>& x) {
+  std::vector<Vec<D>> out;
+  out.reserve(members.size());
+  for (int i : members) out.push_back(x[i]);
+  return out;
+}
+
+template <int D>
+PopulationFits population_fits(const std::vector<ClusterSummary<D>>& clusters) {
+  PopulationFits p;
+  p.dimension = kNaN;
+  std::vector<double> log_n, log_r, log_rho;
+  std::vector<int> sizes;
+  for (const ClusterSummary<D>& c : clusters) {
+    if (c.size < kPopulationMinSize) continue;
+    log_n.push_back(std::log(static_cast<double>(c.size)));
+    log_r.push_back(std::log(c.r_max));
+    log_rho.push_back(std::log(c.density));
+    sizes.push_back(c.size);
+  }
+  p.clusters = static_cast<int>(sizes.size());
+  std::sort(sizes.begin(), sizes.end());
+  if (std::unique(sizes.begin(), sizes.end()) - sizes.begin() < kPopulationMinSizes) return p;
+  p.r_max = fit_line(log_n, log_r);
+  p.density = fit_line(log_n, log_rho);
+  if (p.density) p.dimension = D / (1.0 - p.density->slope);
+  return p;
+}
+
+}  // namespace
+
+template <int D>
+AggregateAnalysis<D> analyze_aggregates(const Box<D>& box, const SphereTable<D>& t) {
+  AggregateAnalysis<D> a;
+  a.box = box;
+  a.n_spheres = static_cast<int>(t.radius.size());
+  const auto [smallest, largest_radius] = std::minmax_element(t.radius.begin(), t.radius.end());
+  // Equal radii (the paper's case): R itself, without the round-off of a mean.
+  a.length_unit = *smallest == *largest_radius ? *smallest
+                                               : std::accumulate(t.radius.begin(), t.radius.end(), 0.0) / a.n_spheres;
+  const ClusterPartition partition = partition_clusters(t.cluster, a.n_spheres);
+  const UnwrappedClusters<D> unwrapped = unwrap_clusters(box, t.position, t.radius, partition);
+  a.mass_spectrum = mass_spectrum(partition);
+
+  const ContactCounts contacts = count_contacts(box, t.position, t.radius, partition.label);
+  const std::int64_t all_contacts = std::accumulate(contacts.all.begin(), contacts.all.end(), std::int64_t{0});
+  a.contacts = relative_contacts<D>(all_contacts, a.n_spheres);
+  a.box_counting = box_counting(box, t.position, a.length_unit);
+
+  a.largest = kth_largest_cluster(partition.label, 1);
+  const int m = partition.n_clusters();
+  a.clusters.resize(m);
+  for (int c = 0; c < m; ++c) {
+    const std::span<const std::int32_t> members = partition.members_of(c);
+    ClusterSummary<D>& s = a.clusters[c];
+    s.size = partition.size(c);
+    s.percolating = unwrapped.percolating[c];
+    s.shape = gyration_shape(gather(members, unwrapped.position));
+    const MassRadius<D> mr =
+        mass_radius<D>(members, unwrapped.position, t.radius, t.mass, a.length_unit, s.shape.radius_of_gyration);
+    s.mass = mr.mass;
+    s.centre_of_mass = mr.centre_of_mass;
+    s.r_max = mr.r_max;
+    s.density = mr.density;
+    std::int64_t own = 0;
+    for (int i : members) own += contacts.same_cluster[i];
+    s.contacts = relative_contacts<D>(own, s.size);
+    s.box_dimension = s.box_dimension_error = s.mass_radius_dimension = s.mass_radius_dimension_error = kNaN;
+    if (s.size >= kFractalMinSize) {
+      const BoxCounting bc = box_counting(box, gather(members, t.position), a.length_unit);
+      s.box_dimension = bc.dimension;
+      s.box_dimension_error = bc.dimension_error;
+      s.mass_radius_dimension = mr.dimension;
+      s.mass_radius_dimension_error = mr.dimension_error;
+    }
+  }
+  const std::span<const std::int32_t> largest = partition.members_of(a.largest);
+  a.largest_box_counting = box_counting(box, gather(largest, t.position), a.length_unit);
+  a.largest_mass_radius = mass_radius<D>(largest, unwrapped.position, t.radius, t.mass, a.length_unit,
+                                         a.clusters[a.largest].shape.radius_of_gyration);
+  a.pair_distribution = pair_distribution(box, t.position, a.length_unit, partition.label, a.largest);
+  a.population = population_fits(a.clusters);
+  return a;
+}
+
+template AggregateAnalysis<2> analyze_aggregates<2>(const Box<2>&, const SphereTable<2>&);
+template AggregateAnalysis<3> analyze_aggregates<3>(const Box<3>&, const SphereTable<3>&);
+
+}  // namespace ballagg

@@ -1,0 +1,77 @@
+#pragma once
+// Every indicator of the aggregates of one state (docs/analysis.md): for each cluster its
+// size, mass, shape (gyration.hpp), contacts (contacts.hpp), size and density
+// (mass_radius.hpp) and fractal dimensions (box_counting.hpp, mass_radius.hpp); for all
+// spheres of the box and for the largest cluster the curves N(eps), P(r), n(r); the mass
+// spectrum; and the power laws across the population of clusters (Richardson 1995 §3).
+// A pure function of the spheres and the box: state in, numbers out.
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "ballagg/analysis/box_counting.hpp"
+#include "ballagg/analysis/cluster_unwrapping.hpp"
+#include "ballagg/analysis/gyration.hpp"
+#include "ballagg/analysis/linear_fit.hpp"
+#include "ballagg/analysis/mass_radius.hpp"
+#include "ballagg/analysis/mass_spectrum.hpp"
+#include "ballagg/analysis/pair_distribution.hpp"
+#include "ballagg/io/state_csv.hpp"
+#include "ballagg/spatial/box.hpp"
+
+namespace ballagg {
+
+// Clusters smaller than this get no fractal dimension (NaN): a handful of centres spans
+// too few box sizes or radii for a slope.
+inline constexpr int kFractalMinSize = 10;
+// The population fits (R_max and rho against N_a) use the clusters of at least this many
+// spheres, and need at least kPopulationMinSizes distinct sizes among them.
+inline constexpr int kPopulationMinSize = 2;
+inline constexpr int kPopulationMinSizes = 3;
+
+template <int D>
+struct ClusterSummary {
+  int size = 0;
+  double mass = 0.0;
+  Vec<D> centre_of_mass = Vec<D>::Zero();  // in the box when periodic
+  GyrationShape<D> shape;                  // A_r (4.3), D (4.4), R_g
+  double r_max = 0.0, density = 0.0;       // Richardson (7), M / V(R_max)
+  double contacts = 0.0;                   // N_c (4.5) over the cluster's own pairs
+  double box_dimension = 0.0, box_dimension_error = 0.0;                  // (4.7), NaN below kFractalMinSize
+  double mass_radius_dimension = 0.0, mass_radius_dimension_error = 0.0;  // Richardson §3
+  bool percolating = false;                // wraps around the periodic box
+};
+
+// Power laws across clusters: R_max ~ N_a^(slope), rho ~ N_a^gamma, and the dimension
+// they imply, f_D = D / (1 - gamma) (Richardson eq. 32, written for any D).
+struct PopulationFits {
+  int clusters = 0;                     // clusters used
+  std::optional<LinearFit> r_max;       // log R_max against log N_a
+  std::optional<LinearFit> density;     // log rho against log N_a
+  double dimension = 0.0;               // D / (1 - gamma); NaN without a fit
+};
+
+template <int D>
+struct AggregateAnalysis {
+  Box<D> box;
+  int n_spheres = 0;
+  double length_unit = 0.0;               // R: the mean sphere radius
+  double contacts = 0.0;                  // N_c (4.5) over all spheres of the box
+  BoxCounting box_counting;               // (4.7) over all centres
+  PairDistribution pair_distribution;     // (4.6): all spheres, and the largest cluster
+  int largest = 0;                        // index of the largest cluster (lowest on a tie)
+  BoxCounting largest_box_counting;
+  MassRadius<D> largest_mass_radius;
+  std::vector<ClusterSummary<D>> clusters;  // in order of each cluster's first sphere
+  std::vector<MassSpectrumBin> mass_spectrum;
+  PopulationFits population;
+};
+
+// The spheres of a state file (positions folded into the box when periodic).
+template <int D>
+AggregateAnalysis<D> analyze_aggregates(const Box<D>& box, const SphereTable<D>& spheres);
+
+extern template AggregateAnalysis<2> analyze_aggregates<2>(const Box<2>&, const SphereTable<2>&);
+extern template AggregateAnalysis<3> analyze_aggregates<3>(const Box<3>&, const SphereTable<3>&);
+
+}  // namespace ballagg

@@ -1,0 +1,73 @@
+#include "ballagg/analysis/mass_radius.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+namespace ballagg {
+
+template <int D>
+double ball_volume(double r) {
+  if constexpr (D == 2) return std::numbers::pi * r * r;
+  else return 4.0 / 3.0 * std::numbers::pi * r * r * r;
+}
+
+template <int D>
+MassRadius<D> mass_radius(std::span<const std::int32_t> members, const std::vector<Vec<D>>& x,
+                          const std::vector<double>& radius, const std::vector<double>& mass, double length_unit,
+                          double radius_of_gyration) {
+  MassRadius<D> out;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  out.dimension = out.dimension_error = nan;
+  for (int i : members) {
+    out.centre_of_mass += mass[i] * x[i];
+    out.mass += mass[i];
+  }
+  out.centre_of_mass /= out.mass;
+  std::vector<double> r;
+  r.reserve(members.size());
+  for (int i : members) {
+    const double ri = (x[i] - out.centre_of_mass).norm();
+    r.push_back(ri);
+    out.r_max = std::max(out.r_max, ri + radius[i]);
+  }
+  out.density = out.mass / ball_volume<D>(out.r_max);
+  std::sort(r.begin(), r.end());
+
+  // The table: from the first radius of the fitted range (or the aggregate's edge if that
+  // is closer) down by whole ratios to below one radius, and up to R_max.
+  const double inner = kMassRadiusInner * length_unit;
+  double start = inner;
+  while (start > length_unit) start /= kMassRadiusRatio;
+  std::vector<double> log_r, log_n;
+  for (double rk = start; rk <= out.r_max * kMassRadiusRatio; rk *= kMassRadiusRatio) {
+    const auto n = static_cast<std::int64_t>(std::upper_bound(r.begin(), r.end(), rk) - r.begin());
+    // Round-off in the repeated products must not drop the range's own end points.
+    const bool in_range = rk >= inner * (1.0 - 1e-12) && rk <= radius_of_gyration && n > 0;
+    out.radius.push_back(rk);
+    out.enclosed.push_back(n);
+    out.fitted.push_back(in_range);
+    if (in_range) {
+      log_r.push_back(std::log(rk));
+      log_n.push_back(std::log(static_cast<double>(n)));
+    }
+  }
+  if (static_cast<int>(log_r.size()) >= kMassRadiusMinPoints) {
+    out.fit = fit_line(log_r, log_n);
+    if (out.fit) {
+      out.dimension = out.fit->slope;
+      out.dimension_error = out.fit->slope_error;
+    }
+  }
+  return out;
+}
+
+template double ball_volume<2>(double);
+template double ball_volume<3>(double);
+template MassRadius<2> mass_radius<2>(std::span<const std::int32_t>, const std::vector<Vec<2>>&,
+                                      const std::vector<double>&, const std::vector<double>&, double, double);
+template MassRadius<3> mass_radius<3>(std::span<const std::int32_t>, const std::vector<Vec<3>>&,
+                                      const std::vector<double>&, const std::vector<double>&, double, double);
+
+}  // namespace ballagg

@@ -1,0 +1,55 @@
+#pragma once
+// Size, density and the mass-radius fractal dimension of one aggregate (Richardson 1995,
+// §2.2 and §3):
+//   R_max = max_i (r_i + R_i)                        (Richardson eq. 7)
+// with r_i the distance of centre i from the aggregate's centre of mass; the spherically
+// averaged density rho = M / (volume of a ball of radius R_max) (pi R_max^2 in 2D); and
+// f_D, "the slope of a log-log plot of radius measured from the center of mass vs
+// enclosed particle number": n(r) = #{i : r_i <= r} tabulated at radii growing by the
+// factor kMassRadiusRatio, fitted by least squares on kMassRadiusInner R <= r <= R_g
+// (beyond a couple of diameters, where n(r) is the count of single spheres, and inside
+// the radius of gyration, before n(r) saturates at the aggregate's edge).
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "ballagg/analysis/linear_fit.hpp"
+#include "ballagg/core/vec.hpp"
+
+namespace ballagg {
+
+inline constexpr double kMassRadiusInner = 4.0;                // smallest fitted r, in units of R
+inline constexpr double kMassRadiusRatio = 1.189207115002721;  // 2^(1/4): four radii per octave
+inline constexpr int kMassRadiusMinPoints = 3;                 // fewer fitted radii: no f_D
+
+template <int D>
+struct MassRadius {
+  Vec<D> centre_of_mass = Vec<D>::Zero();
+  double mass = 0.0;
+  double r_max = 0.0;     // (7)
+  double density = 0.0;   // M / (volume of the ball of radius R_max)
+  std::vector<double> radius;                // the table's radii r
+  std::vector<std::int64_t> enclosed;        // n(r)
+  std::vector<char> fitted;                  // r within the fitted range
+  std::optional<LinearFit> fit;              // log n against log r: slope = f_D
+  double dimension = 0.0, dimension_error = 0.0;  // NaN without a fit
+};
+
+// One aggregate: its centres (in one piece, see cluster_unwrapping.hpp), radii and masses
+// indexed by `members`. length_unit: R (the mean radius); radius_of_gyration: R_g of the
+// aggregate (gyration.hpp), the upper end of the fit.
+template <int D>
+MassRadius<D> mass_radius(std::span<const std::int32_t> members, const std::vector<Vec<D>>& position,
+                          const std::vector<double>& radius, const std::vector<double>& mass, double length_unit,
+                          double radius_of_gyration);
+
+// The volume of a ball of radius r in D dimensions (pi r^2, 4/3 pi r^3).
+template <int D>
+double ball_volume(double r);
+
+extern template MassRadius<2> mass_radius<2>(std::span<const std::int32_t>, const std::vector<Vec<2>>&,
+                                             const std::vector<double>&, const std::vector<double>&, double, double);
+extern template MassRadius<3> mass_radius<3>(std::span<const std::int32_t>, const std::vector<Vec<3>>&,
+                                             const std::vector<double>&, const std::vector<double>&, double, double);
+
+}  // namespace ballagg

@@ -1,0 +1,87 @@
+#pragma once
+// A hash map from unordered pairs of ids (i, j) to an int32 value, with open addressing
+// and linear probing in one flat array. The time-stepping engine asks "is (i, j) in the
+// adhesive set S already?" for every contact it finds, and S holds up to a million pairs in
+// the first steps of a large run: std::unordered_map spent most of its time allocating a
+// node per pair. Clearing costs the number of entries, not the capacity.
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace ballagg {
+
+class PairIndex {
+ public:
+  static constexpr std::int32_t kAbsent = -1;
+
+  // The value stored for (i, j), or kAbsent.
+  std::int32_t find(std::int32_t i, std::int32_t j) const {
+    if (slots_.empty()) return kAbsent;
+    const std::uint64_t key = pack(i, j);
+    for (std::size_t s = home(key);; s = (s + 1) & mask_) {
+      if (slots_[s].key == kEmpty) return kAbsent;
+      if (slots_[s].key == key) return slots_[s].value;
+    }
+  }
+
+  // Stores value for (i, j) unless the pair is there; returns {stored value, inserted}.
+  std::pair<std::int32_t, bool> insert(std::int32_t i, std::int32_t j, std::int32_t value) {
+    if (2 * (used_.size() + 1) > slots_.size()) grow();
+    const std::uint64_t key = pack(i, j);
+    for (std::size_t s = home(key);; s = (s + 1) & mask_) {
+      if (slots_[s].key == key) return {slots_[s].value, false};
+      if (slots_[s].key == kEmpty) {
+        slots_[s] = {key, value};
+        used_.push_back(static_cast<std::uint32_t>(s));
+        return {value, true};
+      }
+    }
+  }
+
+  std::size_t size() const { return used_.size(); }
+
+  void clear() {
+    for (std::uint32_t s : used_) slots_[s].key = kEmpty;
+    used_.clear();
+  }
+
+ private:
+  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
+  struct Slot {
+    std::uint64_t key = kEmpty;
+    std::int32_t value = kAbsent;
+  };
+
+  static std::uint64_t pack(std::int32_t i, std::int32_t j) {
+    if (i > j) std::swap(i, j);
+    return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(i)) << 32) | static_cast<std::uint32_t>(j);
+  }
+  // Fibonacci hashing: the high bits of key * 2^64 / phi, spread over the table.
+  std::size_t home(std::uint64_t key) const { return (key * 0x9E3779B97F4A7C15ull) >> shift_; }
+
+  void grow() {
+    const std::size_t capacity = slots_.empty() ? 1024 : 2 * slots_.size();
+    std::vector<Slot> old;
+    old.swap(slots_);
+    std::vector<std::uint32_t> old_used;
+    old_used.swap(used_);
+    slots_.assign(capacity, Slot{});
+    mask_ = capacity - 1;
+    shift_ = 64;
+    for (std::size_t c = capacity; c > 1; c >>= 1) --shift_;
+    for (std::uint32_t s : old_used) {
+      const Slot& e = old[s];
+      std::size_t t = home(e.key);
+      while (slots_[t].key != kEmpty) t = (t + 1) & mask_;
+      slots_[t] = e;
+      used_.push_back(static_cast<std::uint32_t>(t));
+    }
+  }
+
+  std::vector<Slot> slots_;
+  std::vector<std::uint32_t> used_;  // occupied slots, for clear()
+  std::size_t mask_ = 0;
+  int shift_ = 64;
+};
+
+}  // namespace ballagg

@@ -1,0 +1,130 @@
+#pragma once
+// The adhesive set S of one round of the loop (3.1)-(3.2) (paper §3, step 2) and the
+// groups it joins: pairs of spheres, each with the Lagrange multiplier of its constraint,
+// and the connected groups of bodies they join (each an independent minimisation problem),
+// kept by union–find as pairs are added, each root holding the lists of its bodies and
+// pairs. Bodies are named by a cluster id (step_bodies.hpp); clearing costs the size of S.
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "ballagg/core/disjoint_sets.hpp"
+#include "ballagg/core/pair_index.hpp"
+
+namespace ballagg {
+
+struct SpherePair {
+  std::int32_t i, j;  // sphere ids, i < j
+  double lambda;      // multiplier of its constraint (0: not set yet, (3.26) applies)
+};
+
+// One connected group: the bodies (named by a cluster id) and the pairs of S that join them.
+struct CollisionGroup {
+  std::vector<std::int32_t> bodies;  // sorted
+  std::vector<std::int32_t> pairs;   // indices into S, sorted
+};
+
+class AdhesiveSet {
+ public:
+  explicit AdhesiveSet(int n_cluster_ids = 0)
+      : sets_(n_cluster_ids), clusters_of_(n_cluster_ids), pairs_of_(n_cluster_ids),
+        touched_mark_(n_cluster_ids, 0), changed_mark_(n_cluster_ids, 0) {}
+
+  const std::vector<SpherePair>& pairs() const { return pairs_; }
+  SpherePair& pair(std::int32_t k) { return pairs_[k]; }
+  bool empty() const { return pairs_.empty(); }
+  bool contains(int i, int j) const { return index_.find(i, j) != PairIndex::kAbsent; }
+
+  // Adds the pair of spheres (i, j) of bodies ci and cj (one body is allowed: in the
+  // per-sphere models a cluster can fold onto itself) unless it is in S already, and marks
+  // its group as changed. Returns whether it was added.
+  bool add(int i, int j, int ci, int cj) {
+    if (i > j) { std::swap(i, j); std::swap(ci, cj); }
+    const auto [k, added] = index_.insert(i, j, static_cast<std::int32_t>(pairs_.size()));
+    if (!added) return false;
+    pairs_.push_back({i, j, 0.0});
+    touch(ci);
+    touch(cj);
+    const int a = sets_.find(ci), b = sets_.find(cj);
+    const int root = sets_.unite(a, b);
+    if (a != b) {
+      const int other = root == a ? b : a;
+      move_append(clusters_of_[other], clusters_of_[root]);
+      move_append(pairs_of_[other], pairs_of_[root]);
+    }
+    pairs_of_[root].push_back(k);
+    mark_changed(root);
+    return true;
+  }
+
+  // The groups that changed since the last call, each once, in the order of their lowest
+  // cluster id (the same order whatever the number of threads).
+  std::vector<CollisionGroup> take_changed_groups() {
+    std::vector<CollisionGroup> out;
+    for (int c : changed_) changed_mark_[c] = 0;
+    std::vector<int> roots;
+    for (int c : changed_) {
+      const int r = sets_.find(c);
+      if (!changed_mark_[r]) {
+        changed_mark_[r] = 1;
+        roots.push_back(r);
+      }
+    }
+    for (int r : roots) changed_mark_[r] = 0;
+    changed_.clear();
+    out.reserve(roots.size());
+    for (int r : roots) {
+      CollisionGroup g{clusters_of_[r], pairs_of_[r]};
+      std::sort(g.bodies.begin(), g.bodies.end());
+      std::sort(g.pairs.begin(), g.pairs.end());
+      out.push_back(std::move(g));
+    }
+    std::sort(out.begin(), out.end(),
+              [](const CollisionGroup& a, const CollisionGroup& b) { return a.bodies.front() < b.bodies.front(); });
+    return out;
+  }
+
+  // Empties S for the next step: costs the size of S, not the number of clusters.
+  void clear() {
+    for (int c : touched_) {
+      sets_.reset(c);
+      clusters_of_[c].clear();
+      pairs_of_[c].clear();
+      touched_mark_[c] = 0;
+    }
+    touched_.clear();
+    changed_.clear();
+    pairs_.clear();
+    index_.clear();
+  }
+
+ private:
+  void touch(int c) {
+    if (touched_mark_[c]) return;
+    touched_mark_[c] = 1;
+    touched_.push_back(c);
+    clusters_of_[c].push_back(c);
+  }
+  void mark_changed(int root) {
+    if (changed_mark_[root]) return;
+    changed_mark_[root] = 1;
+    changed_.push_back(root);
+  }
+  static void move_append(std::vector<std::int32_t>& from, std::vector<std::int32_t>& to) {
+    if (from.size() > to.size()) from.swap(to);
+    to.insert(to.end(), from.begin(), from.end());
+    from.clear();
+  }
+
+  std::vector<SpherePair> pairs_;
+  PairIndex index_;
+  DisjointSets sets_;
+  std::vector<std::vector<std::int32_t>> clusters_of_;  // per root: the clusters of its group
+  std::vector<std::vector<std::int32_t>> pairs_of_;     // per root: its pairs (indices into pairs_)
+  std::vector<std::int32_t> touched_;                   // clusters with a pair in S
+  std::vector<char> touched_mark_;
+  std::vector<std::int32_t> changed_;                   // roots (at the time) of changed groups
+  std::vector<char> changed_mark_;
+};
+
+}  // namespace ballagg

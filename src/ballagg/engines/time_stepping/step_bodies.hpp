@@ -1,0 +1,114 @@
+#pragma once
+// The bodies of one time step. A step starts with the clusters of the state, each a body of
+// its own. A round of the loop (3.1)-(3.2) that leaves two spheres of different bodies
+// touching links them: from the next round on the two bodies move as one (rigid model:
+// one variable), so every problem stays as small as what is new. Nothing changes in the
+// state before the step ends; then the links merge their clusters (rule 2.9).
+//
+// A body is only a grouping, so it can be dissolved again into the clusters it is made of
+// (its links go back to S): when a later round finds an overlap inside it, or when a
+// minimisation fails and its group is moved back along its flight, where each cluster
+// retreats along its own.
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+#include "ballagg/engines/time_stepping/adhesive_set.hpp"
+
+namespace ballagg {
+
+class StepBodies {
+ public:
+  explicit StepBodies(int n_cluster_ids = 0)
+      : parent_(n_cluster_ids), size_(n_cluster_ids, 1), clusters_(n_cluster_ids), links_(n_cluster_ids),
+        touched_mark_(n_cluster_ids, 0) {
+    for (int c = 0; c < n_cluster_ids; ++c) parent_[c] = c;
+  }
+
+  // The body of cluster c, named by its root cluster. Does not modify the structure, so
+  // threads may call it together (union by size keeps the paths short).
+  int body_of(int c) const {
+    while (parent_[c] != c) c = parent_[c];
+    return c;
+  }
+  // The clusters of a body (its root): the root alone when nothing was linked to it.
+  std::vector<std::int32_t> clusters_of(int body) const {
+    if (clusters_[body].empty()) return {body};
+    return clusters_[body];
+  }
+  const std::vector<SpherePair>& links_of(int body) const { return links_[body]; }
+
+  // Links the spheres i (of cluster ci) and j (of cluster cj): joins their bodies.
+  void link(const SpherePair& p, int ci, int cj) {
+    int a = body_of(ci), b = body_of(cj);
+    touch(a);
+    touch(b);
+    if (a != b) {
+      if (size_[a] < size_[b] || (size_[a] == size_[b] && b < a)) std::swap(a, b);
+      parent_[b] = a;
+      size_[a] += size_[b];
+      append(clusters_[b], clusters_[a]);
+      append(links_[b], links_[a]);
+    }
+    links_[a].push_back(p);
+  }
+
+  // Splits a body back into its clusters; returns the links it held.
+  std::vector<SpherePair> dissolve(int body) {
+    std::vector<SpherePair> links;
+    links.swap(links_[body]);
+    const std::vector<std::int32_t> clusters = clusters_of(body);
+    for (int c : clusters) {
+      parent_[c] = c;
+      size_[c] = 1;
+      clusters_[c].assign(1, c);
+      links_[c].clear();
+    }
+    return links;
+  }
+
+  // Every link of the step, in the order they were made within each body, bodies in
+  // increasing order of their root.
+  std::vector<SpherePair> all_links() const {
+    std::vector<std::int32_t> roots;
+    for (int c : touched_)
+      if (parent_[c] == c) roots.push_back(c);
+    std::sort(roots.begin(), roots.end());
+    std::vector<SpherePair> out;
+    for (int r : roots) out.insert(out.end(), links_[r].begin(), links_[r].end());
+    return out;
+  }
+
+  // Every cluster back to a body of its own, at the cost of what the step touched.
+  void clear() {
+    for (int c : touched_) {
+      parent_[c] = c;
+      size_[c] = 1;
+      clusters_[c].clear();
+      links_[c].clear();
+      touched_mark_[c] = 0;
+    }
+    touched_.clear();
+  }
+
+ private:
+  void touch(int root) {
+    if (touched_mark_[root]) return;
+    touched_mark_[root] = 1;
+    touched_.push_back(root);
+    if (clusters_[root].empty()) clusters_[root].push_back(root);
+  }
+  template <class T>
+  static void append(std::vector<T>& from, std::vector<T>& to) {
+    to.insert(to.end(), from.begin(), from.end());
+    from.clear();
+  }
+
+  std::vector<std::int32_t> parent_, size_;
+  std::vector<std::vector<std::int32_t>> clusters_;  // per root: its clusters (empty: just itself)
+  std::vector<std::vector<SpherePair>> links_;       // per root: its links
+  std::vector<std::int32_t> touched_;                // clusters whose entries are not pristine
+  std::vector<char> touched_mark_;
+};
+
+}  // namespace ballagg

@@ -1,0 +1,176 @@
+#include "ballagg/io/analysis_files.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+
+#include "ballagg/analysis/contacts.hpp"
+
+namespace ballagg {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+// NaN and infinities have no JSON number: null.
+Json number(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
+
+template <int D>
+Json vector_json(const Vec<D>& v) {
+  Json a = Json::array();
+  for (int k = 0; k < D; ++k) a.push_back(number(v[k]));
+  return a;
+}
+
+Json fit_json(const std::optional<LinearFit>& f) {
+  if (!f) return nullptr;
+  return Json{{"slope", number(f->slope)},
+              {"slope_error", number(f->slope_error)},
+              {"intercept", number(f->intercept)},
+              {"intercept_error", number(f->intercept_error)},
+              {"points", f->points}};
+}
+
+Json box_counting_json(const BoxCounting& b) {
+  int fitted = 0;
+  for (char f : b.fitted) fitted += f;
+  return Json{{"dimension", number(b.dimension)},
+              {"dimension_error", number(b.dimension_error)},
+              {"prefactor", number(b.prefactor)},
+              {"prefactor_error", number(b.prefactor_error)},
+              {"levels_fitted", fitted}};
+}
+
+template <int D>
+Json cluster_json(const ClusterSummary<D>& c) {
+  Json eigenvalues = Json::array();
+  for (double l : c.shape.eigenvalues) eigenvalues.push_back(number(l));
+  return Json{{"size", c.size},
+              {"mass", number(c.mass)},
+              {"centre_of_mass", vector_json<D>(c.centre_of_mass)},
+              {"radius_of_gyration", number(c.shape.radius_of_gyration)},
+              {"r_max", number(c.r_max)},
+              {"density", number(c.density)},
+              {"aspect_ratio", number(c.shape.aspect_ratio)},
+              {"gyration_eigenvalues", eigenvalues},
+              {"orientation", vector_json<D>(c.shape.orientation())},
+              {"contacts", number(c.contacts)},
+              {"contacts_with_self", number(relative_contacts_with_self<D>(c.contacts))},
+              {"box_counting_dimension", number(c.box_dimension)},
+              {"box_counting_dimension_error", number(c.box_dimension_error)},
+              {"mass_radius_dimension", number(c.mass_radius_dimension)},
+              {"mass_radius_dimension_error", number(c.mass_radius_dimension_error)},
+              {"percolating", c.percolating}};
+}
+
+std::string num(double v) { return fmt::format("{}", v); }
+
+template <int D>
+std::string clusters_csv(const AggregateAnalysis<D>& a) {
+  static constexpr const char* axes[] = {"x", "y", "z"};
+  fmt::memory_buffer out;
+  auto put = [&](const auto&... parts) { (fmt::format_to(std::back_inserter(out), "{}", parts), ...); };
+  put("cluster,size,mass");
+  for (int k = 0; k < D; ++k) put(",com_", axes[k]);
+  put(",radius_of_gyration,r_max,density,aspect_ratio");
+  for (int k = 0; k < D; ++k) put(",lambda_", k + 1);
+  for (int k = 0; k < D; ++k) put(",orientation_", axes[k]);
+  put(",contacts,box_counting_dimension,box_counting_dimension_error,mass_radius_dimension,"
+      "mass_radius_dimension_error,percolating\n");
+  for (std::size_t c = 0; c < a.clusters.size(); ++c) {
+    const ClusterSummary<D>& s = a.clusters[c];
+    put(c, ",", s.size, ",", num(s.mass));
+    for (int k = 0; k < D; ++k) put(",", num(s.centre_of_mass[k]));
+    put(",", num(s.shape.radius_of_gyration), ",", num(s.r_max), ",", num(s.density), ",", num(s.shape.aspect_ratio));
+    for (int k = 0; k < D; ++k) put(",", num(s.shape.eigenvalues[k]));
+    for (int k = 0; k < D; ++k) put(",", num(s.shape.orientation()[k]));
+    put(",", num(s.contacts), ",", num(s.box_dimension), ",", num(s.box_dimension_error), ",",
+        num(s.mass_radius_dimension), ",", num(s.mass_radius_dimension_error), ",", s.percolating ? 1 : 0, "\n");
+  }
+  return fmt::to_string(out);
+}
+
+template <int D>
+std::string box_counting_csv(const AggregateAnalysis<D>& a) {
+  std::string out = "level,eps,boxes_all,boxes_largest,fitted\n";
+  const BoxCounting& b = a.box_counting;
+  for (std::size_t k = 0; k < b.level.size(); ++k)
+    out += fmt::format("{},{},{},{},{}\n", b.level[k], b.eps[k], b.boxes[k], a.largest_box_counting.boxes[k],
+                       b.fitted[k] ? 1 : 0);
+  return out;
+}
+
+template <int D>
+std::string pair_distribution_csv(const AggregateAnalysis<D>& a) {
+  std::string out = "r,r_over_R,P_all,P_largest\n";
+  const PairDistribution& p = a.pair_distribution;
+  for (std::size_t k = 0; k < p.r.size(); ++k)
+    out += fmt::format("{},{},{},{}\n", p.r[k], p.r[k] / a.length_unit, p.all[k], p.cluster[k]);
+  return out;
+}
+
+template <int D>
+std::string mass_radius_csv(const AggregateAnalysis<D>& a) {
+  std::string out = "r,r_over_R,enclosed,fitted\n";
+  const MassRadius<D>& m = a.largest_mass_radius;
+  for (std::size_t k = 0; k < m.radius.size(); ++k)
+    out += fmt::format("{},{},{},{}\n", m.radius[k], m.radius[k] / a.length_unit, m.enclosed[k], m.fitted[k] ? 1 : 0);
+  return out;
+}
+
+std::string mass_spectrum_csv(const std::vector<MassSpectrumBin>& bins) {
+  std::string out = "size,clusters\n";
+  for (const MassSpectrumBin& b : bins) out += fmt::format("{},{}\n", b.size, b.clusters);
+  return out;
+}
+
+}  // namespace
+
+template <int D>
+std::map<std::string, std::string> analysis_files(const AggregateAnalysis<D>& a, const std::string& state_file) {
+  Json j;
+  j["state_file"] = state_file;
+  j["dimension"] = D;
+  j["n_spheres"] = a.n_spheres;
+  j["n_clusters"] = a.clusters.size();
+  j["box_length"] = a.box.length;
+  j["boundary"] = to_string(a.box.boundary);
+  j["length_unit"] = a.length_unit;
+  j["definitions"] = Json{{"contact_factor_alpha_R", kContactFactor},
+                          {"max_contacts_N_max", kMaxContacts<D>},
+                          {"pair_distribution_r_over_R", {kPairDistributionMin, kPairDistributionMax}},
+                          {"box_counting_eps_range", {fmt::format("{} R", kBoxCountingSmallest), "L/2"}},
+                          {"mass_radius_r_range", {fmt::format("{} R", kMassRadiusInner), "R_g"}},
+                          {"fractal_min_size", kFractalMinSize}};
+  j["all_spheres"] = Json{{"contacts", number(a.contacts)},
+                          {"contacts_with_self", number(relative_contacts_with_self<D>(a.contacts))},
+                          {"box_counting", box_counting_json(a.box_counting)},
+                          {"correlation_dimension", a.pair_distribution.all_fit ? number(a.pair_distribution.all_fit->slope) : Json(nullptr)},
+                          {"correlation_fit", fit_json(a.pair_distribution.all_fit)}};
+  Json largest = cluster_json(a.clusters[a.largest]);
+  largest["cluster"] = a.largest;
+  largest["box_counting"] = box_counting_json(a.largest_box_counting);
+  largest["mass_radius_fit"] = fit_json(a.largest_mass_radius.fit);
+  largest["correlation_dimension"] =
+      a.pair_distribution.cluster_fit ? number(a.pair_distribution.cluster_fit->slope) : Json(nullptr);
+  largest["correlation_fit"] = fit_json(a.pair_distribution.cluster_fit);
+  j["largest_cluster"] = largest;
+  j["population"] = Json{{"clusters_used", a.population.clusters},
+                         {"min_size", kPopulationMinSize},
+                         {"r_max_vs_size", fit_json(a.population.r_max)},
+                         {"density_vs_size", fit_json(a.population.density)},
+                         {"dimension_from_density", number(a.population.dimension)}};
+  j["files"] = {"clusters.csv", "mass_spectrum.csv", "box_counting.csv", "pair_distribution.csv", "mass_radius.csv"};
+  return {{"analysis.json", j.dump(2) + "\n"},
+          {"clusters.csv", clusters_csv(a)},
+          {"mass_spectrum.csv", mass_spectrum_csv(a.mass_spectrum)},
+          {"box_counting.csv", box_counting_csv(a)},
+          {"pair_distribution.csv", pair_distribution_csv(a)},
+          {"mass_radius.csv", mass_radius_csv(a)}};
+}
+
+template std::map<std::string, std::string> analysis_files<2>(const AggregateAnalysis<2>&, const std::string&);
+template std::map<std::string, std::string> analysis_files<3>(const AggregateAnalysis<3>&, const std::string&);
+
+}  // namespace ballagg

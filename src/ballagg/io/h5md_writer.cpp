@@ -1,0 +1,180 @@
+#include "ballagg/io/h5md_writer.hpp"
+
+#include <filesystem>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "ballagg/io/hdf5_handle.hpp"
+#include "ballagg/io/output_dir.hpp"
+#include "ballagg/version.hpp"
+
+namespace ballagg {
+
+namespace {
+
+using hdf5::check;
+using hdf5::Handle;
+using hdf5::Series;
+
+// About 1 MB of doubles per chunk: large enough for fast writes, small enough that
+// reading one sphere's history does not read whole frames.
+constexpr hsize_t kChunkValues = hsize_t{1} << 17;
+constexpr hsize_t kScalarChunk = 1024;  // records per chunk of step, time and observables
+
+}  // namespace
+
+template <int D>
+struct H5mdWriter<D>::Impl {
+  std::filesystem::path target, temporary;
+  Handle file;
+  int n = 0;
+  bool periodic = false;
+  std::unique_ptr<Series> step, time, position, image, velocity, cluster, clusters, largest, energy;
+
+  Impl(const std::string& path, const Particles<D>& p, const std::string& config_toml) {
+    hdf5::quiet_errors();
+    target = path;
+    temporary = temporary_path_for(path);
+    try {
+      create(p, config_toml);
+    } catch (...) {
+      discard();
+      throw;
+    }
+  }
+
+  void create(const Particles<D>& p, const std::string& config_toml) {
+    n = p.size();
+    periodic = p.box.periodic();
+    // The H5MD-recommended file format version 2, readable by HDF5 1.8 and later.
+    const Handle fapl(check(H5Pcreate(H5P_FILE_ACCESS), "file properties"), H5Pclose);
+    check(H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18), "file properties");
+    // No timestamps on the root group either (the file creation list is a group's).
+    const Handle fcpl(check(H5Pcreate(H5P_FILE_CREATE), "file properties"), H5Pclose);
+    check(H5Pset_obj_track_times(fcpl, false), "file properties");
+    file = Handle(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, fcpl, fapl), H5Fclose);
+    if (file.get() < 0) throw std::runtime_error(fmt::format("{}: cannot create the file", temporary.string()));
+
+    {
+      const Handle h5md = hdf5::create_group(file, "h5md");
+      hdf5::write_attribute(h5md, "version", std::vector<std::int32_t>{1, 1});
+      // H5MD asks for an author; ballagg does not record who ran it, so the file is the
+      // same whoever runs it.
+      hdf5::write_attribute(hdf5::create_group(h5md, "author"), "name", std::string("unknown"));
+      const Handle creator = hdf5::create_group(h5md, "creator");
+      hdf5::write_attribute(creator, "name", std::string("ballagg"));
+      hdf5::write_attribute(creator, "version", std::string(kVersion));
+    }
+    const Handle particles = hdf5::create_group(file, "particles");
+    const Handle all = hdf5::create_group(particles, "all");
+    {
+      const Handle box = hdf5::create_group(all, "box");
+      hdf5::write_attribute(box, "dimension", std::vector<std::int32_t>{D});
+      hdf5::write_attribute(box, "boundary", std::vector<std::string>(D, periodic ? "periodic" : "none"));
+      hdf5::write_dataset(box, "edges", std::vector<double>(D, p.box.length));
+    }
+    hdf5::write_dataset(all, "radius", p.radius);
+    hdf5::write_dataset(all, "mass", p.mass);
+
+    const hsize_t un = static_cast<hsize_t>(n);
+    const hsize_t rows = std::max<hsize_t>(1, kChunkValues / D);
+    const Handle g_position = hdf5::create_group(all, "position");
+    step = std::make_unique<Series>(g_position, "step", H5T_NATIVE_INT64, std::vector<hsize_t>{}, kScalarChunk,
+                                    Series::Compression::none);
+    time = std::make_unique<Series>(g_position, "time", H5T_NATIVE_DOUBLE, std::vector<hsize_t>{}, kScalarChunk,
+                                    Series::Compression::none);
+    position = std::make_unique<Series>(g_position, "value", H5T_NATIVE_DOUBLE, std::vector<hsize_t>{un, D}, rows,
+                                        Series::Compression::none);
+    auto element = [&](hid_t parent, const std::string& name) {
+      Handle g = hdf5::create_group(parent, name);
+      check(H5Lcreate_hard(g_position, "step", g, "step", H5P_DEFAULT, H5P_DEFAULT), name + "/step");
+      check(H5Lcreate_hard(g_position, "time", g, "time", H5P_DEFAULT, H5P_DEFAULT), name + "/time");
+      return g;
+    };
+    if (periodic)
+      image = std::make_unique<Series>(element(all, "image"), "value", H5T_NATIVE_INT32, std::vector<hsize_t>{un, D},
+                                       rows, Series::Compression::shuffle_deflate);
+    velocity = std::make_unique<Series>(element(all, "velocity"), "value", H5T_NATIVE_DOUBLE,
+                                        std::vector<hsize_t>{un, D}, rows, Series::Compression::none);
+    cluster = std::make_unique<Series>(element(all, "cluster"), "value", H5T_NATIVE_INT32, std::vector<hsize_t>{un},
+                                       kChunkValues, Series::Compression::none);
+    const Handle observables = hdf5::create_group(file, "observables");
+    clusters = std::make_unique<Series>(element(observables, "clusters"), "value", H5T_NATIVE_INT32,
+                                        std::vector<hsize_t>{}, kScalarChunk, Series::Compression::none);
+    largest = std::make_unique<Series>(element(observables, "largest_cluster"), "value", H5T_NATIVE_INT32,
+                                       std::vector<hsize_t>{}, kScalarChunk, Series::Compression::none);
+    energy = std::make_unique<Series>(element(observables, "kinetic_energy"), "value", H5T_NATIVE_DOUBLE,
+                                      std::vector<hsize_t>{}, kScalarChunk, Series::Compression::none);
+    const Handle parameters = hdf5::create_group(file, "parameters");
+    hdf5::write_string_dataset(parameters, "config.toml", config_toml);
+    hdf5::write_string_dataset(parameters, "ballagg_version", kVersion);
+  }
+
+  ~Impl() {
+    if (file.get() >= 0) discard();
+  }
+
+  void close_datasets() {
+    for (auto* s : {&step, &time, &position, &image, &velocity, &cluster, &clusters, &largest, &energy}) s->reset();
+  }
+
+  // Leaves nothing behind (an error, or a run that did not finish).
+  void discard() {
+    close_datasets();
+    file.reset();
+    std::error_code ec;
+    std::filesystem::remove(temporary, ec);
+  }
+
+  void write(const Frame<D>& f) {
+    if (f.size() != n) throw std::logic_error("H5MD frame with a different number of spheres");
+    step->append(&f.step);
+    time->append(&f.time);
+    position->append(f.position.data());
+    if (image) image->append(f.image.data());
+    velocity->append(f.velocity.data());
+    cluster->append(f.cluster.data());
+    const std::int32_t counts[2] = {f.n_clusters, f.largest_cluster};
+    clusters->append(&counts[0]);
+    largest->append(&counts[1]);
+    energy->append(&f.kinetic_energy);
+  }
+
+  void finish() {
+    close_datasets();
+    if (H5Fclose(file.release()) < 0) {
+      std::error_code ec;
+      std::filesystem::remove(temporary, ec);
+      throw std::runtime_error(fmt::format("{}: cannot write (disk full?)", target.string()));
+    }
+    rename_into_place(temporary.string(), target.string());
+  }
+};
+
+template <int D>
+H5mdWriter<D>::H5mdWriter(const std::string& path, const Particles<D>& particles, const std::string& config_toml)
+    : impl_(std::make_unique<Impl>(path, particles, config_toml)) {}
+
+template <int D>
+H5mdWriter<D>::~H5mdWriter() = default;
+
+// HDF5 (built thread-safe in Debian) keeps its error printing switch per thread, and
+// frames are written on BackgroundWriter's thread: each call silences it on its own thread,
+// so that a failure reaches the user as our one-line exception, not the library's trace.
+template <int D>
+void H5mdWriter<D>::write(const Frame<D>& frame) {
+  hdf5::quiet_errors();
+  impl_->write(frame);
+}
+
+template <int D>
+void H5mdWriter<D>::finish() {
+  hdf5::quiet_errors();
+  impl_->finish();
+}
+
+template class H5mdWriter<2>;
+template class H5mdWriter<3>;
+
+}  // namespace ballagg

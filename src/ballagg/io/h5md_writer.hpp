@@ -1,0 +1,43 @@
+#pragma once
+// Trajectory frames in an H5MD 1.1 file (HDF5, https://nongnu.org/h5md; read with h5py,
+// or any H5MD reader). Layout (N spheres, D dimensions, F frames; group "all"):
+//
+//   h5md/                 version = {1, 1}; author/ (name), creator/ (name, version)
+//   particles/all/
+//     box/                dimension = D, boundary = "periodic" | "none" (x D); edges: [D]
+//     position/           step: int64[F], time: double[F], value: double[F][N][D] (folded)
+//     image/              periodic only: value int32[F][N][D]; unwrapped = position + image * edges
+//     velocity/           value: double[F][N][D]
+//     cluster/            value: int32[F][N], 0, 1, ... in order of each cluster's first sphere
+//     radius, mass        double[N] (time-independent)
+//   observables/          clusters, largest_cluster (int32[F]), kinetic_energy (double[F])
+//   parameters/           config.toml (the resolved configuration), ballagg_version
+//
+// Every time-dependent group shares position's step and time datasets (hard links).
+// Values are chunked by frame. Images are compressed (shuffle + deflate level 1: nearly all
+// zeros); positions, velocities and cluster ids are not (doubles barely compress, and
+// deflating the ids cost the writer thread more than writing them, measured at N = 10^6).
+// No timestamps are written, so the same run gives a byte-identical file.
+#include <memory>
+#include <string>
+
+#include "ballagg/io/frame_sink.hpp"
+
+namespace ballagg {
+
+template <int D>
+class H5mdWriter final : public FrameSink<D> {
+ public:
+  // Creates a temporary file next to `path`, renamed to `path` by finish(). Throws
+  // std::runtime_error if it cannot be created.
+  H5mdWriter(const std::string& path, const Particles<D>& particles, const std::string& config_toml);
+  ~H5mdWriter() override;
+  void write(const Frame<D>& frame) override;
+  void finish() override;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ballagg

@@ -1,0 +1,51 @@
+#pragma once
+// Trajectory frames at exact simulated times: the initial state, every `every` of
+// simulated time (t = k * every, k = 1, 2, ...), and the final state. Positions are lazy
+// (State::position is valid at any time up to the next event), so a frame at k * every is
+// written from before_event, between two events (ed) or two steps (ts), without changing
+// the run: a run with snapshots gives the same results as one without. A frame due at the
+// instant of an event, or of the end of a time step, shows the state after it.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "ballagg/config/config.hpp"
+#include "ballagg/engines/engine.hpp"
+#include "ballagg/io/background_writer.hpp"
+
+namespace ballagg {
+
+template <int D>
+class SnapshotRecorder final : public RunObserver<D> {
+ public:
+  // `mirror_at_walls`: see capture_frame (true for the time-stepping engine).
+  SnapshotRecorder(double every, std::vector<std::unique_ptr<FrameSink<D>>> sinks, bool mirror_at_walls);
+
+  void on_start(const State<D>& s) override;
+  void before_event(const State<D>& s, double t) override;
+  void after_event(const State<D>& s, const EventRecord& e, const EngineCounters& c) override;
+  void on_finish(const State<D>& s, const RunResult& r) override;
+
+  int frames() const { return frames_; }
+
+ private:
+  double next_time() const { return static_cast<double>(next_k_) * every_; }
+  void take(const State<D>& s, double t);
+
+  double every_;
+  BackgroundWriter<D> writer_;
+  bool mirror_at_walls_;
+  std::int64_t next_k_ = 1;
+  std::int64_t events_ = 0;
+  int frames_ = 0;
+  double last_time_ = 0.0;
+  std::int64_t last_events_ = -1;
+};
+
+// The sinks a run's configuration asks for (trajectory.h5md, trajectory.xyz in `dir`),
+// on a background thread. Null when output.snapshot_every = 0.
+template <int D>
+std::unique_ptr<SnapshotRecorder<D>> make_snapshot_recorder(const Config& resolved, const State<D>& initial,
+                                                            const std::string& dir);
+
+}  // namespace ballagg

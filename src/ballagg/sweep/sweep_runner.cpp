@@ -1,0 +1,123 @@
+#include "ballagg/sweep/sweep_runner.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <filesystem>
+#include <mutex>
+#include <thread>
+
+#include <fmt/format.h>
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "ballagg/io/output_dir.hpp"
+#include "ballagg/io/text_file.hpp"
+#include "ballagg/run/analyze_run.hpp"
+#include "ballagg/run/simulation.hpp"
+#include "ballagg/sweep/sweep_table.hpp"
+
+namespace ballagg {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kSweepCopy = "sweep.toml";  // the sweep file as started, in the sweep directory
+
+fs::path run_dir(const SweepOptions& o, const SweepRun& r) { return fs::path(o.out_dir) / "runs" / r.name; }
+
+// Checks that out_dir can hold this sweep: a fresh or empty directory, or (with --resume)
+// one started from the same sweep file. Every process checks, only the first writes.
+void check_sweep_dir(const SweepSpec& spec, const SweepOptions& o) {
+  const fs::path copy = fs::path(o.out_dir) / kSweepCopy;
+  std::error_code ec;
+  if (fs::exists(o.out_dir, ec) && !fs::is_directory(o.out_dir, ec))
+    throw InputError(fmt::format("--out {}: exists and is not a directory", o.out_dir));
+  if (fs::exists(copy, ec)) {
+    if (!o.resume)
+      throw InputError(fmt::format("--out {}: holds a sweep already (use --resume to continue it, or another --out)",
+                                   o.out_dir));
+    if (read_text_file(copy.string(), "sweep copy") != spec.text)
+      throw InputError(fmt::format("{}: differs from {}, the file this sweep was started with (a resumed sweep must "
+                                   "keep its grid)", spec.source, copy.string()));
+    return;
+  }
+  if (fs::exists(o.out_dir, ec) && !fs::is_empty(o.out_dir, ec))
+    throw InputError(fmt::format("--out {}: not empty and not a sweep directory (no {})", o.out_dir, kSweepCopy));
+}
+
+bool finished(const fs::path& dir) { return fs::exists(dir / "summary.json"); }
+bool analysed(const fs::path& dir) { return fs::exists(dir / "analysis.json"); }
+
+}  // namespace
+
+SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Communicator& world) {
+  const std::vector<SweepPoint> points = sweep_points(spec);
+  const std::vector<SweepRun> runs = sweep_runs(spec, points);  // every configuration checked
+  check_sweep_dir(spec, o);
+  world.barrier();  // every process has checked before the first writes
+  if (world.rank() == 0) {
+    prepare_output_dir(o.out_dir);
+    if (!fs::exists(fs::path(o.out_dir) / kSweepCopy)) write_file_atomically(o.out_dir, kSweepCopy, spec.text);
+    fs::create_directories(fs::path(o.out_dir) / "runs");
+  }
+  world.barrier();
+
+  // This process's runs: every size-th, so each point's realizations spread over the ranks.
+  std::vector<const SweepRun*> mine;
+  long long skipped = 0;
+  for (std::size_t k = world.rank(); k < runs.size(); k += world.size()) {
+    const fs::path dir = run_dir(o, runs[k]);
+    if (finished(dir) && analysed(dir)) ++skipped;
+    else mine.push_back(&runs[k]);
+  }
+  const int jobs = std::max(1, o.jobs > 0 ? o.jobs
+                                          : (world.mpi() ? 1 : static_cast<int>(std::thread::hardware_concurrency())));
+  std::atomic<std::size_t> next{0};
+  std::atomic<long long> ran{0}, failed{0};
+  std::mutex print;
+  auto worker = [&] {
+#ifdef _OPENMP
+    omp_set_num_threads(std::max(1, o.threads_per_run));  // per thread: each run's own team
+#endif
+    for (std::size_t k; (k = next++) < mine.size();) {
+      const SweepRun& r = *mine[k];
+      const fs::path dir = run_dir(o, r);
+      try {
+        if (!finished(dir)) run_simulation(r.config, {dir.string(), true, false});
+        analyze_run({dir.string(), "", "", ""});
+        std::error_code ec;
+        fs::remove(dir / "error.txt", ec);  // left by an earlier attempt
+        ++ran;
+        if (!o.quiet) {
+          const std::lock_guard<std::mutex> lock(print);
+          fmt::print("sweep: {} done\n", (fs::path("runs") / r.name).string());
+          std::fflush(stdout);
+        }
+      } catch (const std::exception& e) {
+        ++failed;
+        const std::lock_guard<std::mutex> lock(print);
+        fmt::print(stderr, "ballagg: sweep: run {} failed: {}\n", dir.string(), e.what());
+        std::error_code ec;
+        fs::create_directories(dir, ec);
+        try {
+          write_file_atomically(dir.string(), "error.txt", std::string(e.what()) + "\n");
+        } catch (const std::exception&) {
+          // The message is on stderr already.
+        }
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int t = 1; t < std::min<int>(jobs, static_cast<int>(mine.size())); ++t) threads.emplace_back(worker);
+  worker();
+  for (std::thread& t : threads) t.join();
+
+  SweepOutcome out{world.sum(ran), world.sum(skipped), world.sum(failed)};
+  world.barrier();  // every run is on disk
+  if (world.rank() == 0) write_sweep_tables(o.out_dir, spec, points, runs);
+  return out;
+}
+
+}  // namespace ballagg
