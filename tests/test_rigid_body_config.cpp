@@ -13,6 +13,7 @@
 
 #include "ballagg/config/config.hpp"
 #include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
+#include "ballagg/run/analyze_run.hpp"
 #include "support.hpp"
 
 namespace ballagg {
@@ -149,13 +150,17 @@ xyz = false
 }
 
 nlohmann::json summary_of(const std::filesystem::path& dir) { return nlohmann::json::parse(slurp(dir / "summary.json")); }
+nlohmann::json analysis_of(const std::filesystem::path& dir) { return nlohmann::json::parse(slurp(dir / "analysis.json")); }
+
+constexpr const char* kAnalysisFiles[] = {"analysis.json", "clusters.csv", "mass_spectrum.csv", "box_counting.csv",
+                                          "pair_distribution.csv", "mass_radius.csv"};
 
 TEST(RigidBodyRun, WritesTheRigidBodyColumnsAndFilesAndIsDeterministic) {
   TempDir dir;
   const Config c = small_run(3, "[stop]\ntime = 20\n");
   run_simulation(c, {(dir / "a").string(), true, false});
   run_simulation(c, {(dir / "b").string(), true, false});
-  for (const char* f : {"final.csv", "timeseries.csv", "aggregates.csv", "mass_spectrum.csv", "config.toml"})
+  for (const char* f : {"final.csv", "timeseries.csv", "config.toml", "clusters.csv", "mass_spectrum.csv"})
     EXPECT_EQ(slurp(dir / "a" / f), slurp(dir / "b" / f)) << f;
   const std::string final_csv = slurp(dir / "a" / "final.csv");
   EXPECT_EQ(final_csv.substr(0, final_csv.find('\n')), "x,y,z,vx,vy,vz,radius,mass,cluster,wx,wy,wz");
@@ -167,8 +172,32 @@ TEST(RigidBodyRun, WritesTheRigidBodyColumnsAndFilesAndIsDeterministic) {
   EXPECT_LE(j["first_time_collisions"].get<int>(), j["collisions"].get<int>());
   EXPECT_GT(j["rotational_energy_final"].get<double>(), 0.0);
   EXPECT_LT(j["max_overlap"].get<double>(), 1e-9);
-  EXPECT_TRUE(j["aggregates"].contains("r_max_vs_spheres"));
   EXPECT_EQ(j["config"]["engine"]["skin"].get<double>(), rigid_body_skin(make_initial_state<3>(c)));
+}
+
+TEST(RigidBodyRun, EndStatisticsAreThoseOfBallaggAnalyzeAndAddUpToTheRunTotals) {
+  // The run writes the files of `ballagg analyze` from its final state; the command run
+  // afterwards on the directory gives the same bytes, and the clusters' kinetic energies
+  // (translation, and rotation from the spin columns and the inertia tensor of eq. 1) add
+  // up to the totals the engine kept.
+  TempDir dir;
+  run_simulation(small_run(3, "[stop]\ntime = 20\n"), {(dir / "run").string(), true, false});
+  analyze_run({(dir / "run").string(), "", "", (dir / "again").string()});
+  for (const char* f : kAnalysisFiles) EXPECT_EQ(slurp(dir / "run" / f), slurp(dir / "again" / f)) << f;
+  const nlohmann::json s = summary_of(dir / "run"), a = analysis_of(dir / "run");
+  EXPECT_EQ(a["n_clusters"], s["n_clusters"]);
+  EXPECT_NEAR(a["translational_energy"].get<double>(), s["kinetic_energy_final"].get<double>(),
+              1e-12 * s["kinetic_energy_final"].get<double>());
+  EXPECT_NEAR(a["rotational_energy"].get<double>(), s["rotational_energy_final"].get<double>(),
+              1e-12 * s["rotational_energy_final"].get<double>());
+  const nlohmann::json& p = a["population"];
+  EXPECT_GT(p["clusters_used"].get<int>(), 3);
+  const double gamma = p["density_vs_size"]["slope"];
+  EXPECT_DOUBLE_EQ(p["dimension_from_density"].get<double>(), 3.0 / (1.0 - gamma));  // eq. (32)
+  EXPECT_GT(p["r_max_vs_size"]["slope"].get<double>(), 0.0);
+  const std::string clusters = slurp(dir / "run" / "clusters.csv");
+  EXPECT_CONTAINS(clusters.substr(0, clusters.find('\n')),
+                  "velocity_x,velocity_y,velocity_z,omega_x,omega_y,omega_z,spin,translational_energy,rotational_energy");
 }
 
 TEST(RigidBodyRun, FinalStateWithSpinsReadsBackAndContinues) {
@@ -293,7 +322,7 @@ TEST(RigidBodyRun, StopsWhenTheAggregatedFractionIsReached) {
   run_simulation(small_run(3, "[stop]\naggregated_fraction = 0.5\n"), {(dir / "out").string(), true, false});
   const nlohmann::json j = summary_of(dir / "out");
   EXPECT_EQ(j["stop_reason"], "aggregated");
-  const double fraction = j["aggregates"]["aggregated_fraction"];
+  const double fraction = analysis_of(dir / "out")["aggregated_mass_fraction"];
   EXPECT_GE(fraction, 0.5);
   EXPECT_LT(fraction, 0.5 + 4.0 / 120);  // stopped at the merge that crossed it
 }

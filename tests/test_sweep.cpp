@@ -295,7 +295,7 @@ TEST(AnalyzeCli, WritesTheTablesOfARun) {
   EXPECT_DOUBLE_EQ(a["all_spheres"]["contacts_with_self"].get<double>(), a["all_spheres"]["contacts"].get<double>() + 1.0 / 6);
   for (const char* f : {"clusters.csv", "mass_spectrum.csv", "box_counting.csv", "pair_distribution.csv", "mass_radius.csv"})
     EXPECT_TRUE(fs::exists(run / f)) << f;
-  EXPECT_EQ(slurp(run / "mass_spectrum.csv"), "size,clusters\n100,1\n");
+  EXPECT_EQ(slurp(run / "mass_spectrum.csv"), "size,mass,clusters\n100,100,1\n");
   // Any state file in the format, with the configuration that gives its box.
   const auto again = run_ballagg({"analyze", "--state", (run / "final.csv").string(), "--config",
                                               (run / "config.toml").string(), "--out", (dir / "other").string()}, dir.path());

@@ -10,7 +10,6 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "ballagg/analysis/aggregate_statistics.hpp"
 #include "ballagg/analysis/overlap.hpp"
 #include "ballagg/collision/contact_time.hpp"
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
@@ -22,6 +21,7 @@
 #include "ballagg/io/state_csv.hpp"
 #include "ballagg/io/timeseries.hpp"
 #include "ballagg/io/xyz.hpp"
+#include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/progress.hpp"
 #include "ballagg/run/snapshots.hpp"
 #include "ballagg/version.hpp"
@@ -199,7 +199,6 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
     j["rotational_energy_initial"] = initial.rotational_energy;
     j["rotational_energy_final"] = rotational_energy(s);
     j["angular_momentum_final"] = vector_json<kSpinDim<D>>(Vec<kSpinDim<D>>(angular_momentum(s)));
-    j["aggregates"] = aggregate_summary_json(aggregate_statistics(s));
   }
   const std::optional<double> overlap = max_relative_overlap(s);
   j["max_overlap"] = overlap ? nlohmann::ordered_json(*overlap) : nlohmann::ordered_json(nullptr);
@@ -239,13 +238,16 @@ std::string run_in_dimension(const Config& given, const RunOptions& options) {
     throw;
   }
 
-  write_file_atomically(dir, "final.csv", state_csv_text(state));
+  const std::string final_csv = state_csv_text(state);
+  write_file_atomically(dir, "final.csv", final_csv);
   if (config.output.xyz) write_file_atomically(dir, "final.xyz", xyz_frame_text(state));
   write_file_atomically(dir, "timeseries.csv", timeseries.csv());
   if (rigid) {
-    const AggregateStatistics aggregates = aggregate_statistics(state);
-    write_file_atomically(dir, "aggregates.csv", aggregates_csv(aggregates));
-    write_file_atomically(dir, "mass_spectrum.csv", mass_spectrum_csv(aggregates));
+    // Richardson's end-of-run statistics: the files of `ballagg analyze`, from final.csv
+    // as that command reads it, so that both give the same bytes.
+    const std::string final_path = (std::filesystem::path(dir) / "final.csv").string();
+    write_analysis(Box<D>{resolved_box_length(config), config.system.boundary},
+                   parse_state_csv<D>(final_csv, final_path), final_path, dir);
   }
   write_file_atomically(dir, "config.toml", to_toml_text(config));
   write_file_atomically(dir, "summary.json", summary_text(config, engine->name(), initial, state, result));
