@@ -110,16 +110,7 @@ int State<D>::merge(int i, int j, double t) {
   keep.lo = keep.lo.cwiseMin(gone.lo + shift);
   keep.hi = keep.hi.cwiseMax(gone.hi + shift);
   const Vec<D> v = stick_velocity(keep.mass, keep.velocity, gone.mass, gone.velocity);
-  keep.mass += gone.mass;
-  keep.members.insert(keep.members.end(), gone.members.begin(), gone.members.end());
-  keep.last_collision_time = t;
-  gone.members.clear();
-  gone.members.shrink_to_fit();
-  gone.mass = 0.0;
-  gone.velocity.setZero();
-  gone.stamp = new_stamp();
-  retire(b);
-  largest_cluster_ = std::max(largest_cluster_, keep.size());
+  absorb(a, b, t);
   assign_motion(a, v, t);
   add_to_totals(a, +1.0);
   if (n_clusters() <= resync_below_) resync_totals();
@@ -133,6 +124,23 @@ void State<D>::retire(int c) {
   alive_slot_[moved] = alive_slot_[c];
   alive_.pop_back();
   alive_slot_[c] = -1;
+}
+
+template <int D>
+void State<D>::absorb(int keep, int gone, double t) {
+  Cluster<D>& k = clusters[keep];
+  Cluster<D>& g = clusters[gone];
+  k.mass += g.mass;
+  k.members.insert(k.members.end(), g.members.begin(), g.members.end());
+  k.last_collision_time = t;
+  g.members.clear();
+  g.members.shrink_to_fit();
+  g.mass = 0.0;
+  g.velocity.setZero();
+  g.stamp = new_stamp();
+  if (!spin.empty()) spin[gone] = {};
+  retire(gone);
+  largest_cluster_ = std::max(largest_cluster_, k.size());
 }
 
 template <int D>
@@ -150,20 +158,9 @@ template <int D>
 void State<D>::join_rigid(int keep, int gone, const Vec<D>& x, const Vec<D>& v, double t) {
   add_to_totals(keep, -1.0);
   add_to_totals(gone, -1.0);
+  for (int m : clusters[gone].members) spheres.cluster[m] = keep;
+  absorb(keep, gone, t);
   Cluster<D>& k = clusters[keep];
-  Cluster<D>& g = clusters[gone];
-  for (int m : g.members) spheres.cluster[m] = keep;
-  k.mass += g.mass;
-  k.members.insert(k.members.end(), g.members.begin(), g.members.end());
-  k.last_collision_time = t;
-  g.members.clear();
-  g.members.shrink_to_fit();
-  g.mass = 0.0;
-  g.velocity.setZero();
-  g.stamp = new_stamp();
-  if (!spin.empty()) spin[gone] = {};
-  retire(gone);
-  largest_cluster_ = std::max(largest_cluster_, k.size());
   k.anchor = x;
   k.anchor_time = t;
   k.velocity = v;

@@ -163,6 +163,9 @@ class State {
   }
   // Removes the (now empty) cluster c from the list of live clusters.
   void retire(int c);
+  // Moves the members and mass of cluster `gone` (already relabelled to `keep`) into
+  // `keep`, empties and retires `gone`. Motion and totals are the caller's.
+  void absorb(int keep, int gone, double t);
 
   std::uint64_t last_stamp_ = 0;
   std::vector<std::int32_t> alive_;       // ids of clusters with members
