@@ -45,7 +45,7 @@ PAPER = {
 
 def run(model, seed, out, extra=()):
     directory = os.path.join(out, f"model-{model}-seed{seed}" + ("-" + "-".join(e.replace("=", "") for e in extra) if extra else ""))
-    if not os.path.exists(os.path.join(directory, "summary.json")):
+    if not os.path.exists(os.path.join(directory, "analysis.json")):
         cmd = [BINARY, "run", os.path.join(EXAMPLES, f"model-{model}.toml"), "-q", "--seed", str(seed),
                "--out", directory, "--set", "output.xyz=false"]
         for e in extra:
@@ -64,6 +64,12 @@ def summary(directory):
         return json.load(f)
 
 
+def analysis(directory):
+    """The end statistics (the files of `ballagg analyze`, written by the run)."""
+    with open(os.path.join(directory, "analysis.json")) as f:
+        return json.load(f)
+
+
 def on_grid(rows, column, times):
     """The value of a column at each time (timeseries rows are piecewise constant)."""
     t = np.array([float(r["time"]) for r in rows])
@@ -72,8 +78,13 @@ def on_grid(rows, column, times):
 
 
 def spectrum(directory):
-    rows = read_csv(os.path.join(directory, "mass_spectrum.csv"))
-    return {int(round(float(r["mass"]))): int(r["bodies"]) for r in rows}
+    """Bodies of each mass, in units of the initial sphere mass."""
+    m0 = summary(directory)["config"]["system"]["mass"]
+    counts = {}
+    for r in read_csv(os.path.join(directory, "mass_spectrum.csv")):
+        k = int(round(float(r["mass"]) / m0))
+        counts[k] = counts.get(k, 0) + int(r["clusters"])
+    return counts
 
 
 def mean_and_error(samples):
@@ -150,14 +161,15 @@ def aggregate_figure(models, out_dirs, figure):
     for model, dirs in zip(models, out_dirs):
         bodies = []
         for d in dirs:
-            bodies += [r for r in read_csv(os.path.join(d, "aggregates.csv")) if int(r["spheres"]) >= 2]
-        n = np.array([int(r["spheres"]) for r in bodies])
+            bodies += [r for r in read_csv(os.path.join(d, "clusters.csv")) if int(r["size"]) >= 2]
+        n = np.array([int(r["size"]) for r in bodies])
         r_max = np.array([float(r["r_max"]) for r in bodies])
         rho = np.array([float(r["density"]) for r in bodies])
-        fd = np.array([float(r["fractal_dimension"]) for r in bodies])
-        fe = np.array([float(r["fractal_error"]) for r in bodies])
+        fd = np.array([float(r["richardson_dimension"]) for r in bodies])
+        fe = np.array([float(r["richardson_dimension_error"]) for r in bodies])
+        has = np.isfinite(fd) & (fe > 0)
         ax[0].loglog(n, r_max, "o", ms=3, label=f"({model})")
-        ax[1].errorbar(n[fe > 0], fd[fe > 0], yerr=fe[fe > 0], fmt="o", ms=3, label=f"({model})")
+        ax[1].errorbar(n[has], fd[has], yerr=fe[has], fmt="o", ms=3, label=f"({model})")
         ax[2].loglog(n, rho, "o", ms=3, label=f"({model})")
     ax[0].set_xlabel("$N_a$")
     ax[0].set_ylabel("$R_{max}$")
@@ -165,7 +177,7 @@ def aggregate_figure(models, out_dirs, figure):
     ax[1].set_xscale("log")
     ax[1].set_ylim(0.5, 3.5)
     ax[1].set_xlabel("$N_a$")
-    ax[1].set_ylabel("$f_D$ (mass-radius)")
+    ax[1].set_ylabel("$f_D$ (mass-radius, every centre)")
     ax[1].set_title("fractal dimension (Fig. 6b)")
     ax[2].set_xlabel("$N_a$")
     ax[2].set_ylabel(r"$\rho = M / (4/3 \pi R_{max}^3)$")
@@ -187,7 +199,7 @@ def model_v_figure(directory, early, figure):
     ax[0].set_ylabel(r"$\sigma_v$")
     ax[0].set_title("model (v): velocity dispersion (Fig. 11a)")
     ax[0].legend()
-    bodies = read_csv(os.path.join(early, "aggregates.csv"))
+    bodies = read_csv(os.path.join(early, "clusters.csv"))
     m = [float(r["mass"]) for r in bodies]
     e = [float(r["translational_energy"]) + float(r["rotational_energy"]) for r in bodies]
     ax[1].loglog(m, e, "o", ms=2)
@@ -235,33 +247,40 @@ def main():
         aggregate_figure(aggregate_models, [dirs[m] for m in aggregate_models],
                          os.path.join(FIGURES, "richardson1995-aggregates.png"))
         print("\n### Aggregate properties at the end (ours: mean ± standard deviation of the mean over the seeds)\n")
-        print("| model | R_max exponent | paper | mean f_D | paper | gamma | paper | 3 / (1 - gamma) | coagulating collisions | paper | collisions | aggregated mass |")
-        print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+        print("| model | R_max exponent | paper | mean f_D, every centre (aggregates) | paper | mean f_D, 4R..R_g (aggregates) | gamma | paper | 3 / (1 - gamma) | coagulating collisions | paper | collisions | aggregated mass |")
+        print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
         for m in aggregate_models:
             ss = [summary(d) for d in dirs[m]]
-            agg = [s["aggregates"] for s in ss]
-            r_e = mean_and_error([a["r_max_vs_spheres"]["exponent"] for a in agg])
-            fd = mean_and_error([a["mean_fractal_dimension"] for a in agg])
-            spread = np.mean([a["fractal_dimension_spread"] for a in agg])
-            gamma = mean_and_error([a["density_vs_spheres"]["exponent"] for a in agg])
-            fit_error = np.mean([a["r_max_vs_spheres"]["error"] for a in agg])
-            gamma_fit = np.mean([a["density_vs_spheres"]["error"] for a in agg])
+            aa = [analysis(d) for d in dirs[m]]
+            pop = [a["population"] for a in aa]
+            r_e = mean_and_error([p["r_max_vs_size"]["slope"] for p in pop])
+            fd = mean_and_error([p["mean_richardson_dimension"]["mean"] for p in pop])
+            spread = np.mean([p["mean_richardson_dimension"]["spread"] for p in pop])
+            with_fd = np.mean([p["mean_richardson_dimension"]["clusters"] for p in pop])
+            windowed = [p["mean_mass_radius_dimension"] for p in pop]
+            fw = np.mean([w["mean"] for w in windowed])
+            fw_spread = np.mean([w["spread"] for w in windowed])
+            fw_n = np.mean([w["clusters"] for w in windowed])
+            gamma = mean_and_error([p["density_vs_size"]["slope"] for p in pop])
+            fit_error = np.mean([p["r_max_vs_size"]["slope_error"] for p in pop])
+            gamma_fit = np.mean([p["density_vs_size"]["slope_error"] for p in pop])
             coag = np.mean([s["merges"] / max(1, s["collisions"]) for s in ss])
             collisions = np.mean([s["collisions"] for s in ss])
-            aggregated = np.mean([a["aggregated_fraction"] for a in agg])
+            aggregated = np.mean([a["aggregated_mass_fraction"] for a in aa])
             pm = PAPER[m]
             def fmt(v, e, fit):
                 return f"{v:.3f} ± {max(e, fit):.3f}"
-            print(f"| ({m}) | {fmt(*r_e, fit_error)} | {pm['r_max']} | {fd[0]:.2f} (spread {spread:.2f}) | {pm['f_d']} | "
+            print(f"| ({m}) | {fmt(*r_e, fit_error)} | {pm['r_max']} | {fd[0]:.2f} ± {spread:.2f} ({with_fd:.0f}) | {pm['f_d']} | "
+                  f"{fw:.2f} ± {fw_spread:.2f} ({fw_n:.0f}) | "
                   f"{fmt(*gamma, gamma_fit)} | {pm['gamma']} | {3 / (1 - gamma[0]):.2f} | {100 * coag:.0f}% | {pm['coag']} | "
                   f"{collisions:.0f} | {100 * aggregated:.2f}% |")
     if "v" in dirs:
         early = run("v", 1, args.out, ["stop.time=8.2"])
         model_v_figure(dirs["v"][0], early, os.path.join(FIGURES, "richardson1995-model-v.png"))
-        s = summary(dirs["v"][0])
+        s, a = summary(dirs["v"][0]), analysis(dirs["v"][0])
         print(f"\nmodel (v): {s['collisions']} collisions, {s['merges']} merges, {s['bounces']} bounces, "
-              f"largest body {s['aggregates']['largest_mass_fraction'] * 100:.1f}% of the mass, "
-              f"{s['aggregates']['aggregated_fraction'] * 100:.2f}% aggregated, wall {s['wall_seconds']:.2f} s")
+              f"heaviest body {a['heaviest_mass_fraction'] * 100:.1f}% of the mass, "
+              f"{a['aggregated_mass_fraction'] * 100:.2f}% aggregated, wall {s['wall_seconds']:.2f} s")
 
 
 if __name__ == "__main__":

@@ -16,15 +16,15 @@ Only the Python standard library is used.
 import argparse
 import json
 import os
-import platform
 import statistics
 import subprocess
 import sys
 import tempfile
 import time
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-BINARY = os.path.join(ROOT, "build", "bin", "ballagg")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ed_scaling import BINARY, ROOT, machine  # noqa: E402
+
 MODEL_V = os.path.join(ROOT, "examples", "richardson1995", "model-v.toml")
 
 # Model (v) has 9000 spheres in a cube of side 10; 10^5 at the same density need a side
@@ -48,6 +48,8 @@ def run_once(case, seed):
         wall = time.perf_counter() - start
         with open(os.path.join(out, "summary.json")) as f:
             summary = json.load(f)
+        with open(os.path.join(out, "analysis.json")) as f:
+            summary["analysis"] = json.load(f)
     summary["process_seconds"] = wall
     return summary
 
@@ -60,19 +62,13 @@ def main():
     args = p.parse_args()
     if not os.path.exists(BINARY):
         sys.exit(f"{BINARY} not found: run `make build` first")
-    cpu = "unknown CPU"
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = next(line.split(":", 1)[1].strip() for line in f if line.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    print(f"machine: {cpu}, {os.cpu_count()} cores, {platform.system()} {platform.release()}, "
-          f"load average {os.getloadavg()[0]:.1f} at the start")
+    print(f"machine: {machine()}, load average {os.getloadavg()[0]:.1f} at the start")
     print(f"command: bench/rigid_body_speed.py {' '.join(sys.argv[1:])}".rstrip())
     print()
     print("| case | runs | process wall (s): min / median | engine (s): min | events | collisions | "
           "events/s | simulated time | stop |")
     print("|---|---|---|---|---|---|---|---|---|")
+    ends = []
     for case in args.cases:
         runs = [run_once(case, args.seed) for _ in range(args.repeat)]
         best = min(runs, key=lambda s: s["process_seconds"])
@@ -80,6 +76,19 @@ def main():
         print(f"| {CASES[case][0]} | {len(runs)} | {min(process):.2f} / {statistics.median(process):.2f} | "
               f"{min(s['wall_seconds'] for s in runs):.2f} | {best['events']} | {best['collisions']} | "
               f"{best['events_per_second']:.3g} | {best['time']:.4g} | {best['stop_reason']} |", flush=True)
+        ends.append((case, best["analysis"]))
+    # The end statistics of the runs (the same in every repetition: the run is deterministic).
+    print()
+    print("| case | bodies | aggregated mass | heaviest body | R_max exponent | gamma | 3 / (1 - gamma) | mean f_D (aggregates) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for case, a in ends:
+        p = a["population"]
+        def slope(fit):
+            return f"{fit['slope']:.3f} ± {fit['slope_error']:.3f}" if fit else "-"
+        print(f"| {CASES[case][0]} | {a['n_clusters']} | {100 * a['aggregated_mass_fraction']:.2f}% | "
+              f"{100 * a['heaviest_mass_fraction']:.1f}% | {slope(p['r_max_vs_size'])} | {slope(p['density_vs_size'])} | "
+              f"{p['dimension_from_density']:.2f} | {p['mean_mass_radius_dimension']:.2f} ± "
+              f"{p['mass_radius_dimension_spread']:.2f} ({p['mass_radius_dimension_clusters']}) |")
 
 
 if __name__ == "__main__":

@@ -89,22 +89,24 @@ TEST(PopulationFits, MeanFractalDimensionWeighsEachClusterByItsInverseSquareErro
   add_spheres<2>(t, lattice<2>(vec<2>(40, 40), 14, 0.5), 0.5, 1);
   const auto squares = analyze_aggregates<2>(Box<2>{100.0, Boundary::walls}, t);
   const double square = squares.clusters[0].mass_radius_dimension;
-  EXPECT_EQ(squares.population.dimension_clusters, 2);
-  EXPECT_NEAR(squares.population.mean_mass_radius_dimension, square, 1e-12);
-  EXPECT_NEAR(squares.population.mass_radius_dimension_spread, 0.0, 1e-6);
+  const WeightedMean& same = squares.population.mass_radius_dimension;
+  EXPECT_EQ(same.clusters, 2);
+  EXPECT_NEAR(same.mean, square, 1e-12);
+  EXPECT_NEAR(same.spread, 0.0, 1e-6);
 
   add_spheres<2>(t, chain<2>(vec<2>(5, 70), vec<2>(1, 0), 60, 0.5), 0.5, 2);
   const auto mixed = analyze_aggregates<2>(Box<2>{100.0, Boundary::walls}, t);
   const ClusterSummary<2>& line = mixed.clusters[2];
-  const PopulationFits& p = mixed.population;
-  EXPECT_EQ(p.dimension_clusters, 3);
-  EXPECT_GT(p.mean_mass_radius_dimension, std::min(square, line.mass_radius_dimension));
-  EXPECT_LT(p.mean_mass_radius_dimension, std::max(square, line.mass_radius_dimension));
+  const WeightedMean& p = mixed.population.mass_radius_dimension;
+  EXPECT_EQ(p.clusters, 3);
+  EXPECT_GT(p.mean, std::min(square, line.mass_radius_dimension));
+  EXPECT_LT(p.mean, std::max(square, line.mass_radius_dimension));
   const double w_square = 1.0 / std::pow(squares.clusters[0].mass_radius_dimension_error, 2),
                w_line = 1.0 / std::pow(line.mass_radius_dimension_error, 2);
-  EXPECT_NEAR(p.mean_mass_radius_dimension,
-              (2 * w_square * square + w_line * line.mass_radius_dimension) / (2 * w_square + w_line), 1e-12);
-  EXPECT_GT(p.mass_radius_dimension_spread, 0.0);
+  EXPECT_NEAR(p.mean, (2 * w_square * square + w_line * line.mass_radius_dimension) / (2 * w_square + w_line), 1e-12);
+  EXPECT_GT(p.spread, 0.0);
+  // Richardson's estimate is averaged the same way.
+  EXPECT_EQ(mixed.population.richardson_dimension.clusters, 3);
 }
 
 }  // namespace

@@ -44,23 +44,24 @@ PopulationFits population_fits(const std::vector<ClusterSummary<D>>& clusters) {
 
 // Richardson's mean f_D with inverse-square weights, and the weighted spread about it.
 template <int D>
-void mean_mass_radius_dimension(const std::vector<ClusterSummary<D>>& clusters, PopulationFits& p) {
+WeightedMean weighted_mean(const std::vector<ClusterSummary<D>>& clusters, double ClusterSummary<D>::*value,
+                           double ClusterSummary<D>::*error) {
   double weight = 0.0, weighted = 0.0, weighted_square = 0.0;
-  p.dimension_clusters = 0;
+  WeightedMean m;
   for (const ClusterSummary<D>& c : clusters) {
-    const double f = c.mass_radius_dimension, e = c.mass_radius_dimension_error;
+    const double f = c.*value, e = c.*error;
     if (!std::isfinite(f) || !std::isfinite(e) || !(e > 0.0)) continue;
     const double w = 1.0 / (e * e);
     weight += w;
     weighted += w * f;
     weighted_square += w * f * f;
-    ++p.dimension_clusters;
+    ++m.clusters;
   }
-  p.mean_mass_radius_dimension = p.mass_radius_dimension_spread = kNaN;
-  if (p.dimension_clusters == 0) return;
-  p.mean_mass_radius_dimension = weighted / weight;
-  p.mass_radius_dimension_spread =
-      std::sqrt(std::max(0.0, weighted_square / weight - p.mean_mass_radius_dimension * p.mean_mass_radius_dimension));
+  m.mean = m.spread = kNaN;
+  if (m.clusters == 0) return m;
+  m.mean = weighted / weight;
+  m.spread = std::sqrt(std::max(0.0, weighted_square / weight - m.mean * m.mean));
+  return m;
 }
 
 // Mass fractions and total kinetic energies over the clusters.
@@ -117,6 +118,8 @@ AggregateAnalysis<D> analyze_aggregates(const Box<D>& box, const SphereTable<D>&
     s.r_max = mr.r_max;
     s.density = mr.density;
     s.motion = cluster_motion<D>(members, unwrapped.position, t);
+    s.richardson_dimension = mr.richardson_dimension;
+    s.richardson_dimension_error = mr.richardson_dimension_error;
     std::int64_t own = 0;
     for (int i : members) own += contacts.same_cluster[i];
     s.contacts = relative_contacts<D>(own, s.size);
@@ -135,7 +138,10 @@ AggregateAnalysis<D> analyze_aggregates(const Box<D>& box, const SphereTable<D>&
                                          a.clusters[a.largest].shape.radius_of_gyration);
   a.pair_distribution = pair_distribution(box, t.position, a.length_unit, partition.label, a.largest);
   a.population = population_fits(a.clusters);
-  mean_mass_radius_dimension(a.clusters, a.population);
+  a.population.mass_radius_dimension = weighted_mean(a.clusters, &ClusterSummary<D>::mass_radius_dimension,
+                                                     &ClusterSummary<D>::mass_radius_dimension_error);
+  a.population.richardson_dimension = weighted_mean(a.clusters, &ClusterSummary<D>::richardson_dimension,
+                                                    &ClusterSummary<D>::richardson_dimension_error);
   mass_and_energy_totals(a);
   return a;
 }

@@ -40,9 +40,19 @@ struct ClusterSummary {
   double r_max = 0.0, density = 0.0;       // Richardson (7), M / V(R_max)
   double contacts = 0.0;                   // N_c (4.5) over the cluster's own pairs
   double box_dimension = 0.0, box_dimension_error = 0.0;                  // (4.7), NaN below kFractalMinSize
-  double mass_radius_dimension = 0.0, mass_radius_dimension_error = 0.0;  // Richardson §3
+  double mass_radius_dimension = 0.0, mass_radius_dimension_error = 0.0;  // §3, fitted on 4R..R_g
+  double richardson_dimension = 0.0, richardson_dimension_error = 0.0;    // §3, through every centre
   bool percolating = false;                // wraps around the periodic box
   ClusterMotion<D> motion;                 // velocity, spin, translational and rotational energy
+};
+
+// Richardson's "mean value of f_D ... using inverse square weights": the mean of the
+// clusters' dimensions weighted by 1 / error^2, and the weighted standard deviation about
+// it (his "1.8 +- 0.4"), over the clusters with a dimension and a non-zero error. NaN
+// when there are none.
+struct WeightedMean {
+  int clusters = 0;
+  double mean = 0.0, spread = 0.0;
 };
 
 // Power laws across clusters: R_max ~ N_a^(slope), rho ~ N_a^gamma, and the dimension
@@ -52,12 +62,8 @@ struct PopulationFits {
   std::optional<LinearFit> r_max;       // log R_max against log N_a
   std::optional<LinearFit> density;     // log rho against log N_a
   double dimension = 0.0;               // D / (1 - gamma); NaN without a fit
-  // Richardson's "mean value of f_D ... using inverse square weights": the mean of the
-  // clusters' mass-radius dimensions weighted by 1 / error^2, and the weighted standard
-  // deviation about it (his "1.8 +- 0.4"), over the clusters with a dimension and a
-  // non-zero error. NaN when there are none.
-  int dimension_clusters = 0;
-  double mean_mass_radius_dimension = 0.0, mass_radius_dimension_spread = 0.0;
+  WeightedMean mass_radius_dimension;   // of the clusters' mass_radius_dimension
+  WeightedMean richardson_dimension;    // of their richardson_dimension
 };
 
 template <int D>

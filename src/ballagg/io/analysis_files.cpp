@@ -32,6 +32,10 @@ Json fit_json(const std::optional<LinearFit>& f) {
               {"points", f->points}};
 }
 
+Json weighted_mean_json(const WeightedMean& m) {
+  return Json{{"mean", number(m.mean)}, {"spread", number(m.spread)}, {"clusters", m.clusters}};
+}
+
 Json box_counting_json(const BoxCounting& b) {
   int fitted = 0;
   for (char f : b.fitted) fitted += f;
@@ -61,6 +65,8 @@ Json cluster_json(const ClusterSummary<D>& c) {
               {"box_counting_dimension_error", number(c.box_dimension_error)},
               {"mass_radius_dimension", number(c.mass_radius_dimension)},
               {"mass_radius_dimension_error", number(c.mass_radius_dimension_error)},
+              {"richardson_dimension", number(c.richardson_dimension)},
+              {"richardson_dimension_error", number(c.richardson_dimension_error)},
               {"percolating", c.percolating},
               {"velocity", vector_json<D>(c.motion.velocity)},
               {"angular_velocity", vector_json<kSpinDim<D>>(c.motion.angular_velocity)},
@@ -82,7 +88,7 @@ std::string clusters_csv(const AggregateAnalysis<D>& a) {
   for (int k = 0; k < D; ++k) put(",lambda_", k + 1);
   for (int k = 0; k < D; ++k) put(",orientation_", axes[k]);
   put(",contacts,box_counting_dimension,box_counting_dimension_error,mass_radius_dimension,"
-      "mass_radius_dimension_error,percolating");
+      "mass_radius_dimension_error,richardson_dimension,richardson_dimension_error,percolating");
   for (int k = 0; k < D; ++k) put(",velocity_", axes[k]);
   for (int k = 3 - kSpinDim<D>; k < 3; ++k) put(",omega_", axes[k]);  // 2D: omega_z only
   put(",spin,translational_energy,rotational_energy\n");
@@ -94,7 +100,8 @@ std::string clusters_csv(const AggregateAnalysis<D>& a) {
     for (int k = 0; k < D; ++k) put(",", num(s.shape.eigenvalues[k]));
     for (int k = 0; k < D; ++k) put(",", num(s.shape.orientation()[k]));
     put(",", num(s.contacts), ",", num(s.box_dimension), ",", num(s.box_dimension_error), ",",
-        num(s.mass_radius_dimension), ",", num(s.mass_radius_dimension_error), ",", s.percolating ? 1 : 0);
+        num(s.mass_radius_dimension), ",", num(s.mass_radius_dimension_error), ",", num(s.richardson_dimension), ",",
+        num(s.richardson_dimension_error), ",", s.percolating ? 1 : 0);
     for (int k = 0; k < D; ++k) put(",", num(s.motion.velocity[k]));
     for (int k = 0; k < kSpinDim<D>; ++k) put(",", num(s.motion.angular_velocity[k]));
     put(",", num(s.motion.spin()), ",", num(s.motion.translational_energy), ",", num(s.motion.rotational_energy), "\n");
@@ -158,7 +165,8 @@ std::map<std::string, std::string> analysis_files(const AggregateAnalysis<D>& a,
                           {"pair_distribution_r_over_R", {kPairDistributionMin, kPairDistributionMax}},
                           {"box_counting_eps_range", {fmt::format("{} R", kBoxCountingSmallest), "L/2"}},
                           {"mass_radius_r_range", {fmt::format("{} R", kMassRadiusInner), "R_g"}},
-                          {"fractal_min_size", kFractalMinSize}};
+                          {"fractal_min_size", kFractalMinSize},
+                          {"richardson_min_size", kRichardsonMinSize}};
   j["all_spheres"] = Json{{"contacts", number(a.contacts)},
                           {"contacts_with_self", number(relative_contacts_with_self<D>(a.contacts))},
                           {"box_counting", box_counting_json(a.box_counting)},
@@ -177,9 +185,8 @@ std::map<std::string, std::string> analysis_files(const AggregateAnalysis<D>& a,
                          {"r_max_vs_size", fit_json(a.population.r_max)},
                          {"density_vs_size", fit_json(a.population.density)},
                          {"dimension_from_density", number(a.population.dimension)},
-                         {"mass_radius_dimension_clusters", a.population.dimension_clusters},
-                         {"mean_mass_radius_dimension", number(a.population.mean_mass_radius_dimension)},
-                         {"mass_radius_dimension_spread", number(a.population.mass_radius_dimension_spread)}};
+                         {"mean_mass_radius_dimension", weighted_mean_json(a.population.mass_radius_dimension)},
+                         {"mean_richardson_dimension", weighted_mean_json(a.population.richardson_dimension)}};
   j["files"] = {"clusters.csv", "mass_spectrum.csv", "box_counting.csv", "pair_distribution.csv", "mass_radius.csv"};
   return {{"analysis.json", j.dump(2) + "\n"},
           {"clusters.csv", clusters_csv(a)},
