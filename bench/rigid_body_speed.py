@@ -37,6 +37,15 @@ CASES = {
 }
 
 
+def slope(fit):
+    return f"{fit['slope']:.3f} ± {fit['slope_error']:.3f}" if fit else "-"
+
+
+def mean(m):
+    """A weighted mean of analysis.json: mean ± spread (clusters)."""
+    return f"{m['mean']:.2f} ± {m['spread']:.2f} ({m['clusters']})" if m["clusters"] else "-"
+
+
 def run_once(case, seed):
     sets = CASES[case][1]
     with tempfile.TemporaryDirectory() as out:
@@ -79,16 +88,15 @@ def main():
         ends.append((case, best["analysis"]))
     # The end statistics of the runs (the same in every repetition: the run is deterministic).
     print()
-    print("| case | bodies | aggregated mass | heaviest body | R_max exponent | gamma | 3 / (1 - gamma) | mean f_D (aggregates) |")
-    print("|---|---|---|---|---|---|---|---|")
+    print("| case | bodies | aggregated mass | heaviest body | R_max exponent | gamma | 3 / (1 - gamma) | "
+          "mean f_D, every centre (aggregates) | mean f_D, 4R..R_g (aggregates) |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for case, a in ends:
         p = a["population"]
-        def slope(fit):
-            return f"{fit['slope']:.3f} ± {fit['slope_error']:.3f}" if fit else "-"
         print(f"| {CASES[case][0]} | {a['n_clusters']} | {100 * a['aggregated_mass_fraction']:.2f}% | "
               f"{100 * a['heaviest_mass_fraction']:.1f}% | {slope(p['r_max_vs_size'])} | {slope(p['density_vs_size'])} | "
-              f"{p['dimension_from_density']:.2f} | {p['mean_mass_radius_dimension']:.2f} ± "
-              f"{p['mass_radius_dimension_spread']:.2f} ({p['mass_radius_dimension_clusters']}) |")
+              f"{p['dimension_from_density']:.2f} | {mean(p['mean_richardson_dimension'])} | "
+              f"{mean(p['mean_mass_radius_dimension'])} |")
 
 
 if __name__ == "__main__":

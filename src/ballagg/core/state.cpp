@@ -146,12 +146,17 @@ void State<D>::absorb(int keep, int gone, double t) {
 template <int D>
 void State<D>::set_rigid_motion(int c, const Vec<D>& x, const Vec<D>& v, double t) {
   add_to_totals(c, -1.0);
+  place(c, x, v, t);
+  add_to_totals(c, +1.0);
+}
+
+template <int D>
+void State<D>::place(int c, const Vec<D>& x, const Vec<D>& v, double t) {
   Cluster<D>& k = clusters[c];
   k.anchor = x;
   k.anchor_time = t;
   k.velocity = v;
   k.stamp = new_stamp();
-  add_to_totals(c, +1.0);
 }
 
 template <int D>
@@ -160,11 +165,7 @@ void State<D>::join_rigid(int keep, int gone, const Vec<D>& x, const Vec<D>& v, 
   add_to_totals(gone, -1.0);
   for (int m : clusters[gone].members) spheres.cluster[m] = keep;
   absorb(keep, gone, t);
-  Cluster<D>& k = clusters[keep];
-  k.anchor = x;
-  k.anchor_time = t;
-  k.velocity = v;
-  k.stamp = new_stamp();
+  place(keep, x, v, t);
   add_to_totals(keep, +1.0);
   if (n_clusters() <= resync_below_) resync_totals();
 }

@@ -166,6 +166,8 @@ class State {
   // Moves the members and mass of cluster `gone` (already relabelled to `keep`) into
   // `keep`, empties and retires `gone`. Motion and totals are the caller's.
   void absorb(int keep, int gone, double t);
+  // Cluster c's body origin is at x at time t, moving at v (totals are the caller's).
+  void place(int c, const Vec<D>& x, const Vec<D>& v, double t);
 
   std::uint64_t last_stamp_ = 0;
   std::vector<std::int32_t> alive_;       // ids of clusters with members
