@@ -23,6 +23,17 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BINARY = os.path.join(ROOT, "build", "bin", "ballagg")
 
 
+def machine():
+    """CPU model, cores and kernel, for the tables of docs/performance.md."""
+    cpu = "unknown CPU"
+    try:
+        with open("/proc/cpuinfo") as f:
+            cpu = next(l.split(":", 1)[1].strip() for l in f if l.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    return f"{cpu}, {os.cpu_count()} cores, {platform.system()} {platform.release()}"
+
+
 def run_once(dim, n, seed, args):
     with tempfile.TemporaryDirectory() as out:
         cmd = [BINARY, "run", "-q", "--out", out, "--seed", str(seed),
@@ -57,13 +68,7 @@ def main():
     if not os.path.exists(BINARY):
         sys.exit(f"{BINARY} not found: run `make build` first")
 
-    cpu = "unknown CPU"
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = next(l.split(":", 1)[1].strip() for l in f if l.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    print(f"machine: {cpu}, {os.cpu_count()} cores, {platform.system()} {platform.release()}")
+    print(f"machine: {machine()}")
     print(f"command: bench/ed_scaling.py {' '.join(sys.argv[1:])}".rstrip())
     print(f"engine {args.engine}, volume fraction {args.vf}, {args.boundary}, fixed-speed 1, lattice start, "
           f"median of {args.seeds} seeds, run to a single cluster\n")

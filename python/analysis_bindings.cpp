@@ -258,16 +258,29 @@ void bind_analysis(py::module_& m) {
     return kth_largest_cluster(partition_labels(cluster_ids, cluster_ids.size()), k);
   }, py::arg("cluster_ids"), py::arg("k") = 1, "Index of the k-th largest cluster (1: the largest).");
 
-  m.def("mass_spectrum", [](const IntArray& cluster_ids) {
-    const auto bins = mass_spectrum(partition_clusters(to_vector<std::int64_t>(cluster_ids, cluster_ids.size(), "cluster_ids"),
-                                                       static_cast<int>(cluster_ids.size())));
+  m.def("mass_spectrum", [](const IntArray& cluster_ids, const py::object& masses) {
+    const int n = static_cast<int>(cluster_ids.size());
+    const ClusterPartition clusters =
+        partition_clusters(to_vector<std::int64_t>(cluster_ids, cluster_ids.size(), "cluster_ids"), n);
+    const std::vector<double> mass =
+        masses.is_none() ? std::vector<double>(n, 1.0) : to_vector<double>(masses.cast<DoubleArray>(), n, "masses");
+    std::vector<std::pair<std::int32_t, double>> size_and_mass;
+    for (int c = 0; c < clusters.n_clusters(); ++c) {
+      double m = 0.0;
+      for (std::int32_t i : clusters.members_of(c)) m += mass[i];
+      size_and_mass.push_back({clusters.size(c), m});
+    }
     std::vector<std::int64_t> size, count;
-    for (const MassSpectrumBin& b : bins) size.push_back(b.size), count.push_back(b.clusters);
+    std::vector<double> bin_mass;
+    for (const MassSpectrumBin& b : mass_spectrum(size_and_mass))
+      size.push_back(b.size), bin_mass.push_back(b.mass), count.push_back(b.clusters);
     py::dict d;
     d["size"] = from_vector(size);
+    d["mass"] = from_vector(bin_mass);
     d["clusters"] = from_vector(count);
     return d;
-  }, py::arg("cluster_ids"), "Number of clusters of each size.");
+  }, py::arg("cluster_ids"), py::arg("masses") = py::none(),
+     "Number of clusters of each size and mass (masses default to 1 per sphere).");
 
   m.def("unwrap_clusters", [](const DoubleArray& positions, const DoubleArray& radii, const IntArray& cluster_ids,
                               double box_length, bool periodic) {

@@ -128,3 +128,33 @@ TEST(MassRadius, SmallClustersHaveNoDimension) {
   EXPECT_TRUE(std::isnan(a.clusters[0].mass_radius_dimension));
   EXPECT_TRUE(std::isnan(a.clusters[0].box_dimension));
 }
+
+// Richardson's estimate: log n(r_i) against log r_i through every centre. A line and
+// round (filled disc, filled ball) sets of spheres, where n(r) grows as r^d right to the
+// edge, give their dimension (the windowed fit is tested above); an aggregate needs
+// kRichardsonMinSize spheres.
+template <int D>
+std::vector<Vec<D>> filled_ball(double radius, double r) {
+  std::vector<Vec<D>> x;
+  const Vec<D> centre = Vec<D>::Constant(50.0);
+  for (const Vec<D>& p : lattice<D>(Vec<D>::Constant(50.0 - radius), static_cast<int>(radius / r) + 1, r))
+    if ((p - centre).norm() <= radius) x.push_back(p);
+  return x;
+}
+
+TEST(RichardsonDimension, LineDiscAndBallHaveTheirDimension) {
+  const double r = 0.5;
+  const auto line = analyze<2>(300.0, chain<2>(vec<2>(10, 50), vec<2>(1, 0.2), 251, r), r);
+  EXPECT_NEAR(line.clusters[0].richardson_dimension, 1.0, kDimensionTolerance);
+  const auto disc = analyze<2>(100.0, filled_ball<2>(30.0, r), r);
+  EXPECT_NEAR(disc.clusters[0].richardson_dimension, 2.0, kDimensionTolerance);
+  const auto ball = analyze<3>(100.0, filled_ball<3>(12.0, r), r);
+  // The first shells of the cubic lattice hold more centres than r^3 (7 within one
+  // spacing, against 4/3 pi): the fit through every centre sees 2.92.
+  EXPECT_NEAR(ball.clusters[0].richardson_dimension, 3.0, 0.1);
+  EXPECT_GT(ball.clusters[0].richardson_dimension_error, 0.0);
+  const auto three = analyze<2>(20.0, chain<2>(vec<2>(2, 2), vec<2>(1, 0), ballagg::kRichardsonMinSize - 1, r), r);
+  EXPECT_TRUE(std::isnan(three.clusters[0].richardson_dimension));
+  const auto four = analyze<2>(20.0, chain<2>(vec<2>(2, 2), vec<2>(1, 0), ballagg::kRichardsonMinSize, r), r);
+  EXPECT_TRUE(std::isfinite(four.clusters[0].richardson_dimension));
+}

@@ -4,8 +4,10 @@
 // the `ballagg render` command line with its bad-input contract.
 #include <cairo.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <numbers>
 #include <random>
@@ -361,6 +363,61 @@ TEST_F(RenderCli, ARunWithoutTrajectoryHasNoFrames) {
                 .status,
             0);
   expect_bad_input({(scratch / "r").string(), "--frame", "0"}, "output.snapshot_every");
+}
+
+// A rigid-body run (rotating aggregates, Richardson 1995): its last trajectory frame is
+// final.csv to the bit (member spheres in the space frame, same cluster ids), the pictures
+// render, and the POV-Ray scene of its largest aggregate holds every sphere of it in one
+// piece: each touches another at exactly a contact distance.
+TEST(RenderRigidBody, TrajectoryPicturesAndOneAggregateForPovRay) {
+  const TempDir dir;
+  const fs::path run = dir / "run";
+  const testing::Outcome o = testing::run_ballagg(
+      {"run", "-q", "--out", run.string(), "--set", "engine.kind=\"rigid-body\"", "--set", "system.dimension=3", "--set",
+       "system.n=300", "--set", "system.boundary=periodic", "--set", "system.volume_fraction=0.1", "--set",
+       "initial.velocities=\"gaussian\"", "--set", "stop.clusters=20", "--set", "output.snapshot_every=0.5"},
+      dir.path());
+  ASSERT_EQ(o.status, 0) << o.err;
+  const H5mdReader<3> trajectory((run / "trajectory.h5md").string());
+  const Frame<3> last = trajectory.frame(trajectory.frames() - 1);
+  const SphereTable<3> final_state = read_state_csv<3>((run / "final.csv").string());
+  ASSERT_EQ(last.size(), static_cast<int>(final_state.position.size()));
+  for (int i = 0; i < last.size(); ++i) {
+    ASSERT_EQ(last.position[i], final_state.position[i]) << "sphere " << i;
+    ASSERT_EQ(last.cluster[i], final_state.cluster[i]) << "sphere " << i;
+  }
+  const std::string frame = std::to_string(trajectory.frames() / 2);
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"--frame", frame, "--png", (dir / "mid.png").string()},
+        std::vector<std::string>{"--aggregate", "1", "--png", (dir / "a.png").string(), "--pov", (dir / "a.pov").string()}}) {
+    std::vector<std::string> command{"render", run.string()};
+    command.insert(command.end(), args.begin(), args.end());
+    const testing::Outcome r = testing::run_ballagg(command, dir.path());
+    ASSERT_EQ(r.status, 0) << r.err;
+  }
+  EXPECT_TRUE(Raster::from_png((dir / "mid.png").string()).ok());
+  EXPECT_TRUE(Raster::from_png((dir / "a.png").string()).ok());
+
+  std::vector<Vec<3>> centre;
+  std::vector<double> radius;
+  const std::string pov = testing::slurp(dir / "a.pov");
+  for (std::size_t at = pov.find("  sphere { <"); at != std::string::npos; at = pov.find("  sphere { <", at + 1)) {
+    double x, z, y, r;  // the scene's frame is y-up
+    ASSERT_EQ(std::sscanf(pov.c_str() + at, "  sphere { <%lf, %lf, %lf>, %lf", &x, &z, &y, &r), 4);
+    centre.emplace_back(x, y, z);
+    radius.push_back(r);
+  }
+  int largest = 0;
+  for (std::int64_t c : final_state.cluster)
+    largest = std::max(largest, static_cast<int>(std::count(final_state.cluster.begin(), final_state.cluster.end(), c)));
+  ASSERT_EQ(static_cast<int>(centre.size()), largest);
+  ASSERT_GT(largest, 5);
+  for (std::size_t i = 0; i < centre.size(); ++i) {
+    double nearest = 1e300;  // gap over contact distance
+    for (std::size_t j = 0; j < centre.size(); ++j)
+      if (j != i) nearest = std::min(nearest, (centre[i] - centre[j]).norm() / (radius[i] + radius[j]) - 1.0);
+    EXPECT_NEAR(nearest, 0.0, 1e-9) << "sphere " << i << " of the aggregate";
+  }
 }
 
 }  // namespace

@@ -176,6 +176,85 @@ TEST(Snapshots, TimeSteppingFramesBetweenStepsLieInsideTheWalls) {
   EXPECT_GT(spheres_outside(run_with_snapshots<2>(c, 0.05, stop, false)), 0);
 }
 
+// Rigid-body runs: clusters rotate, and the engine writes the rotated sphere offsets only
+// when an observer reads them (RunObserver::next_position_read). Each frame is then the
+// state of a run stopped at its time, and the velocity of each sphere is the time
+// derivative of its position, V + omega x (x - X_c), not its cluster's velocity.
+class RigidBodySnapshots : public ::testing::Test {
+ protected:
+  static constexpr double kEvery = 1e-4;
+  void SetUp() override {
+    c_ = small_config(3, 150, 0.15, Boundary::periodic, 5);
+    c_.engine.kind = EngineKind::rigid_body;
+    c_.initial.velocities = InitialVelocities::gaussian;
+    start_ = make_initial_state<3>(c_);
+    c_ = resolve_defaults(c_, start_);
+    StopCriteria grow;
+    grow.clusters = 100;  // spinning aggregates first
+    RunObserver<3> none;
+    make_engine<3>(c_)->run(start_, grow, none);
+  }
+  // Frames every kEvery for 40 intervals from the grown state.
+  std::vector<Frame<3>> frames() const {
+    State<3> s = start_;
+    auto kept = std::make_shared<std::vector<Frame<3>>>();
+    std::vector<std::unique_ptr<FrameSink<3>>> sinks;
+    sinks.push_back(std::make_unique<MemorySink<3>>(kept));
+    SnapshotRecorder<3> recorder(kEvery, std::move(sinks), false);
+    StopCriteria stop;
+    stop.time = s.time + 40 * kEvery;
+    make_engine<3>(c_)->run(s, stop, recorder);
+    return *kept;
+  }
+  Config c_;
+  State<3> start_;
+};
+
+TEST_F(RigidBodySnapshots, FrameEqualsTheRunStoppedAtItsTime) {
+  const std::vector<Frame<3>> f = frames();
+  ASSERT_GE(f.size(), 30u);
+  const Frame<3>& frame = f[20];
+  State<3> s = start_;
+  StopCriteria stop;
+  stop.time = frame.time;
+  RunObserver<3> none;
+  make_engine<3>(c_)->run(s, stop, none);
+  ASSERT_EQ(s.time, frame.time);
+  const Frame<3> stopped = capture_frame(s, s.time, 0);
+  EXPECT_EQ(frame.cluster, stopped.cluster);
+  double position = 0.0, velocity = 0.0;
+  for (int i = 0; i < frame.size(); ++i) {
+    position = std::max(position, s.box.separation(frame.position[i], stopped.position[i]).norm());
+    velocity = std::max(velocity, (frame.velocity[i] - stopped.velocity[i]).norm());
+  }
+  EXPECT_LT(position, 1e-12);
+  EXPECT_LT(velocity, 1e-12);
+}
+
+TEST_F(RigidBodySnapshots, SphereVelocityIsTheDerivativeOfItsPosition) {
+  const std::vector<Frame<3>> f = frames();
+  const double l = start_.box.length;
+  double worst = 0.0, rotation = 0.0;
+  int checked = 0;
+  for (std::size_t k = 1; k + 1 < f.size(); ++k) {
+    if (f[k - 1].n_clusters != f[k + 1].n_clusters) continue;  // a merge in between
+    // The first frame is the start, the last the stop: not on the grid of multiples.
+    const double before = f[k].time - f[k - 1].time, after = f[k + 1].time - f[k].time;
+    if (std::abs(before - after) > 1e-3 * kEvery) continue;
+    for (int i = 0; i < f[k].size(); ++i) {
+      const Vec<3> rate = (f[k + 1].unwrapped(i, l) - f[k - 1].unwrapped(i, l)) / (before + after);
+      worst = std::max(worst, (rate - f[k].velocity[i]).norm());
+      const int c = f[k].cluster[i];
+      for (int j = 0; j < f[k].size(); ++j)  // another sphere of the same cluster
+        if (j != i && f[k].cluster[j] == c) rotation = std::max(rotation, (f[k].velocity[j] - f[k].velocity[i]).norm());
+    }
+    ++checked;
+  }
+  ASSERT_GT(checked, 20);
+  EXPECT_GT(rotation, 0.1) << "no aggregate spins: the test shows nothing";
+  EXPECT_LT(worst, 1e-6);  // central difference: O(kEvery^2 omega^3 r)
+}
+
 template <int D>
 void h5md_round_trip(Boundary boundary) {
   const Config c = small_config(D, 90, 0.15, boundary, 9);

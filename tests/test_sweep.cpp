@@ -163,7 +163,7 @@ TEST(SweepFile, ErrorsNameTheLine) {
   EXPECT_EQ(sweep_error("[[variants]]\nengine.kind = \"ed\"\n[grid]\nengine.kind = [\"ts\"]\n"),
             "s.toml:4: grid engine.kind: also set by the variant at line 1 (set it in one place)");
   EXPECT_EQ(sweep_error("[grid]\nengine.kind = [\"warp\"]\n"),
-            "s.toml:2: engine.kind = \"warp\": must be one of \"ed\", \"ed-naive\", \"ts\"");
+            "s.toml:2: engine.kind = \"warp\": must be one of \"ed\", \"ed-naive\", \"ts\", \"rigid-body\"");
   EXPECT_CONTAINS(sweep_error("[grid]\nsystem.n = [1\n"), "s.toml:2: invalid TOML");
   EXPECT_CONTAINS(sweep_error("[sweep]\nbase = \"no/such/base.toml\"\n"), "no/such/base.toml: cannot read the config file");
   // A rule between keys names the grid point.
@@ -295,7 +295,7 @@ TEST(AnalyzeCli, WritesTheTablesOfARun) {
   EXPECT_DOUBLE_EQ(a["all_spheres"]["contacts_with_self"].get<double>(), a["all_spheres"]["contacts"].get<double>() + 1.0 / 6);
   for (const char* f : {"clusters.csv", "mass_spectrum.csv", "box_counting.csv", "pair_distribution.csv", "mass_radius.csv"})
     EXPECT_TRUE(fs::exists(run / f)) << f;
-  EXPECT_EQ(slurp(run / "mass_spectrum.csv"), "size,clusters\n100,1\n");
+  EXPECT_EQ(slurp(run / "mass_spectrum.csv"), "size,mass,clusters\n100,100,1\n");
   // Any state file in the format, with the configuration that gives its box.
   const auto again = run_ballagg({"analyze", "--state", (run / "final.csv").string(), "--config",
                                               (run / "config.toml").string(), "--out", (dir / "other").string()}, dir.path());

@@ -42,6 +42,47 @@ PopulationFits population_fits(const std::vector<ClusterSummary<D>>& clusters) {
   return p;
 }
 
+// Richardson's mean f_D with inverse-square weights, and the weighted spread about it.
+template <int D>
+WeightedMean weighted_mean(const std::vector<ClusterSummary<D>>& clusters, double ClusterSummary<D>::*value,
+                           double ClusterSummary<D>::*error) {
+  double weight = 0.0, weighted = 0.0, weighted_square = 0.0;
+  WeightedMean m;
+  for (const ClusterSummary<D>& c : clusters) {
+    const double f = c.*value, e = c.*error;
+    if (!std::isfinite(f) || !std::isfinite(e) || !(e > 0.0)) continue;
+    const double w = 1.0 / (e * e);
+    weight += w;
+    weighted += w * f;
+    weighted_square += w * f * f;
+    ++m.clusters;
+  }
+  m.mean = m.spread = kNaN;
+  if (m.clusters == 0) return m;
+  m.mean = weighted / weight;
+  m.spread = std::sqrt(std::max(0.0, weighted_square / weight - m.mean * m.mean));
+  return m;
+}
+
+// Mass fractions and total kinetic energies over the clusters.
+template <int D>
+void mass_and_energy_totals(AggregateAnalysis<D>& a) {
+  double aggregated = 0.0, heaviest = 0.0;
+  std::vector<std::pair<std::int32_t, double>> size_and_mass;
+  size_and_mass.reserve(a.clusters.size());
+  for (const ClusterSummary<D>& c : a.clusters) {
+    a.mass += c.mass;
+    if (c.size > 1) aggregated += c.mass;
+    heaviest = std::max(heaviest, c.mass);
+    a.translational_energy += c.motion.translational_energy;
+    a.rotational_energy += c.motion.rotational_energy;
+    size_and_mass.emplace_back(c.size, c.mass);
+  }
+  a.aggregated_mass_fraction = aggregated / a.mass;
+  a.heaviest_mass_fraction = heaviest / a.mass;
+  a.mass_spectrum = mass_spectrum(std::move(size_and_mass));
+}
+
 }  // namespace
 
 template <int D>
@@ -55,7 +96,6 @@ AggregateAnalysis<D> analyze_aggregates(const Box<D>& box, const SphereTable<D>&
                                                : std::accumulate(t.radius.begin(), t.radius.end(), 0.0) / a.n_spheres;
   const ClusterPartition partition = partition_clusters(t.cluster, a.n_spheres);
   const UnwrappedClusters<D> unwrapped = unwrap_clusters(box, t.position, t.radius, partition);
-  a.mass_spectrum = mass_spectrum(partition);
 
   const ContactCounts contacts = count_contacts(box, t.position, t.radius, partition.label);
   const std::int64_t all_contacts = std::accumulate(contacts.all.begin(), contacts.all.end(), std::int64_t{0});
@@ -77,6 +117,9 @@ AggregateAnalysis<D> analyze_aggregates(const Box<D>& box, const SphereTable<D>&
     s.centre_of_mass = mr.centre_of_mass;
     s.r_max = mr.r_max;
     s.density = mr.density;
+    s.motion = cluster_motion<D>(members, unwrapped.position, t);
+    s.richardson_dimension = mr.richardson_dimension;
+    s.richardson_dimension_error = mr.richardson_dimension_error;
     std::int64_t own = 0;
     for (int i : members) own += contacts.same_cluster[i];
     s.contacts = relative_contacts<D>(own, s.size);
@@ -95,6 +138,11 @@ AggregateAnalysis<D> analyze_aggregates(const Box<D>& box, const SphereTable<D>&
                                          a.clusters[a.largest].shape.radius_of_gyration);
   a.pair_distribution = pair_distribution(box, t.position, a.length_unit, partition.label, a.largest);
   a.population = population_fits(a.clusters);
+  a.population.mass_radius_dimension = weighted_mean(a.clusters, &ClusterSummary<D>::mass_radius_dimension,
+                                                     &ClusterSummary<D>::mass_radius_dimension_error);
+  a.population.richardson_dimension = weighted_mean(a.clusters, &ClusterSummary<D>::richardson_dimension,
+                                                    &ClusterSummary<D>::richardson_dimension_error);
+  mass_and_energy_totals(a);
   return a;
 }
 

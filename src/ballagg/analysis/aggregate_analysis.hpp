@@ -1,7 +1,8 @@
 #pragma once
 // Every indicator of the aggregates of one state (docs/analysis.md): for each cluster its
 // size, mass, shape (gyration.hpp), contacts (contacts.hpp), size and density
-// (mass_radius.hpp) and fractal dimensions (box_counting.hpp, mass_radius.hpp); for all
+// (mass_radius.hpp), fractal dimensions (box_counting.hpp, mass_radius.hpp) and motion
+// (cluster_motion.hpp: velocity, spin, kinetic energies); for all
 // spheres of the box and for the largest cluster the curves N(eps), P(r), n(r); the mass
 // spectrum; and the power laws across the population of clusters (Richardson 1995 §3).
 // A pure function of the spheres and the box: state in, numbers out.
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "ballagg/analysis/box_counting.hpp"
+#include "ballagg/analysis/cluster_motion.hpp"
 #include "ballagg/analysis/cluster_unwrapping.hpp"
 #include "ballagg/analysis/gyration.hpp"
 #include "ballagg/analysis/linear_fit.hpp"
@@ -38,8 +40,19 @@ struct ClusterSummary {
   double r_max = 0.0, density = 0.0;       // Richardson (7), M / V(R_max)
   double contacts = 0.0;                   // N_c (4.5) over the cluster's own pairs
   double box_dimension = 0.0, box_dimension_error = 0.0;                  // (4.7), NaN below kFractalMinSize
-  double mass_radius_dimension = 0.0, mass_radius_dimension_error = 0.0;  // Richardson §3
+  double mass_radius_dimension = 0.0, mass_radius_dimension_error = 0.0;  // §3, fitted on 4R..R_g
+  double richardson_dimension = 0.0, richardson_dimension_error = 0.0;    // §3, through every centre
   bool percolating = false;                // wraps around the periodic box
+  ClusterMotion<D> motion;                 // velocity, spin, translational and rotational energy
+};
+
+// Richardson's "mean value of f_D ... using inverse square weights": the mean of the
+// clusters' dimensions weighted by 1 / error^2, and the weighted standard deviation about
+// it (his "1.8 +- 0.4"), over the clusters with a dimension and a non-zero error. NaN
+// when there are none.
+struct WeightedMean {
+  int clusters = 0;
+  double mean = 0.0, spread = 0.0;
 };
 
 // Power laws across clusters: R_max ~ N_a^(slope), rho ~ N_a^gamma, and the dimension
@@ -49,6 +62,8 @@ struct PopulationFits {
   std::optional<LinearFit> r_max;       // log R_max against log N_a
   std::optional<LinearFit> density;     // log rho against log N_a
   double dimension = 0.0;               // D / (1 - gamma); NaN without a fit
+  WeightedMean mass_radius_dimension;   // of the clusters' mass_radius_dimension
+  WeightedMean richardson_dimension;    // of their richardson_dimension
 };
 
 template <int D>
@@ -65,6 +80,10 @@ struct AggregateAnalysis {
   std::vector<ClusterSummary<D>> clusters;  // in order of each cluster's first sphere
   std::vector<MassSpectrumBin> mass_spectrum;
   PopulationFits population;
+  double mass = 0.0;                        // of all spheres
+  double aggregated_mass_fraction = 0.0;    // in clusters of two or more spheres
+  double heaviest_mass_fraction = 0.0;      // in the heaviest cluster
+  double translational_energy = 0.0, rotational_energy = 0.0;  // sums over the clusters
 };
 
 // The spheres of a state file (positions folded into the box when periodic).

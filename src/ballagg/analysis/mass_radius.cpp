@@ -13,13 +13,36 @@ double ball_volume(double r) {
   else return 4.0 / 3.0 * std::numbers::pi * r * r * r;
 }
 
+namespace {
+
+// Richardson's estimate: log n(r_i) against log r_i through every centre (r sorted) at
+// least one radius from the centre of mass (a centre almost on it would weigh in at
+// log r -> -infinity).
+template <int D>
+void richardson_fit(const std::vector<double>& r, double length_unit, MassRadius<D>& out) {
+  if (static_cast<int>(r.size()) < kRichardsonMinSize) return;
+  std::vector<double> log_r, log_n;
+  for (auto k = r.begin(); k != r.end(); ++k) {
+    if (*k < length_unit) continue;
+    const auto n = std::upper_bound(k, r.end(), *k) - r.begin();  // ties: all of them
+    log_r.push_back(std::log(*k));
+    log_n.push_back(std::log(static_cast<double>(n)));
+  }
+  if (const std::optional<LinearFit> f = fit_line(log_r, log_n)) {
+    out.richardson_dimension = f->slope;
+    out.richardson_dimension_error = f->slope_error;
+  }
+}
+
+}  // namespace
+
 template <int D>
 MassRadius<D> mass_radius(std::span<const std::int32_t> members, const std::vector<Vec<D>>& x,
                           const std::vector<double>& radius, const std::vector<double>& mass, double length_unit,
                           double radius_of_gyration) {
   MassRadius<D> out;
   const double nan = std::numeric_limits<double>::quiet_NaN();
-  out.dimension = out.dimension_error = nan;
+  out.dimension = out.dimension_error = out.richardson_dimension = out.richardson_dimension_error = nan;
   for (int i : members) {
     out.centre_of_mass += mass[i] * x[i];
     out.mass += mass[i];
@@ -53,6 +76,7 @@ MassRadius<D> mass_radius(std::span<const std::int32_t> members, const std::vect
       log_n.push_back(std::log(static_cast<double>(n)));
     }
   }
+  richardson_fit(r, length_unit, out);
   if (static_cast<int>(log_r.size()) >= kMassRadiusMinPoints) {
     out.fit = fit_line(log_r, log_n);
     if (out.fit) {

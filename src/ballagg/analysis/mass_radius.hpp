@@ -9,6 +9,15 @@
 // factor kMassRadiusRatio, fitted by least squares on kMassRadiusInner R <= r <= R_g
 // (beyond a couple of diameters, where n(r) is the count of single spheres, and inside
 // the radius of gyration, before n(r) saturates at the aggregate's edge).
+//
+// Richardson's own estimate, as his §3 describes it and as his Figs. 6b, 8b and 10b plot
+// it down to aggregates of a few spheres: the same slope fitted through every centre,
+// log n(r_i) against log r_i for every centre with r_i >= R (R: the mean radius; a centre
+// almost on the centre of mass would weigh in at log r -> -infinity), to the farthest.
+// It needs no fit range, and still means something for the small and fluffy aggregates
+// of his runs, whose centre of mass often lies in a hole several radii wide (the windowed
+// fit then starts on the steep rise after the hole and gives 3 or more in 3D); it is
+// pulled down by the saturation at the edge. Both are reported.
 #include <optional>
 #include <span>
 #include <vector>
@@ -21,6 +30,7 @@ namespace ballagg {
 inline constexpr double kMassRadiusInner = 4.0;                // smallest fitted r, in units of R
 inline constexpr double kMassRadiusRatio = 1.189207115002721;  // 2^(1/4): four radii per octave
 inline constexpr int kMassRadiusMinPoints = 3;                 // fewer fitted radii: no f_D
+inline constexpr int kRichardsonMinSize = 4;                   // fewer spheres: no Richardson f_D
 
 template <int D>
 struct MassRadius {
@@ -33,6 +43,8 @@ struct MassRadius {
   std::vector<char> fitted;                  // r within the fitted range
   std::optional<LinearFit> fit;              // log n against log r: slope = f_D
   double dimension = 0.0, dimension_error = 0.0;  // NaN without a fit
+  // Richardson's fit through every centre; NaN below kRichardsonMinSize spheres.
+  double richardson_dimension = 0.0, richardson_dimension_error = 0.0;
 };
 
 // One aggregate: its centres (in one piece, see cluster_unwrapping.hpp), radii and masses

@@ -244,6 +244,81 @@ TimeSteppingSettings read_ts_section(const toml::table& root, const std::string&
   return t;
 }
 
+// The [collision] keys of the rigid-body engine (docs/rigid_body.md). Returns the names of
+// those given, so that other engines can refuse them.
+std::vector<std::string> read_rigid_body_keys(SectionReader& col, CollisionConfig& k) {
+  std::vector<std::string> given;
+  auto note = [&](const char* key, bool present) { if (present) given.push_back(key); };
+  const auto coagulation = col.choice("coagulation", {"aggregate", "sphere"});
+  if (coagulation) k.coagulation = static_cast<Coagulation>(*coagulation);
+  note("coagulation", coagulation.has_value());
+  const auto radius = col.choice("merged_radius", {"constant-density", "fixed"});
+  if (radius) k.merged_radius = static_cast<MergedRadius>(*radius);
+  note("merged_radius", radius.has_value());
+  const auto constant_speed = col.boolean("constant_speed");
+  if (constant_speed) k.constant_speed = *constant_speed;
+  note("constant_speed", constant_speed.has_value());
+  const auto law = col.choice("restitution_law", {"constant", "bridges"});
+  if (law) k.restitution_law = static_cast<RestitutionLaw>(*law);
+  note("restitution_law", law.has_value());
+  const auto unit = col.real("velocity_unit", positive, "must be a number > 0 (cm/s per unit of speed)");
+  if (unit) k.velocity_unit = *unit;
+  note("velocity_unit", unit.has_value());
+  const auto mu_t = col.real("mu_t", [](double v) { return v >= 0.0 && v <= 10.0; },
+                             "must be a number in [0, 10] (> 0 opposes the slip; a negative value would drive it "
+                             "and create energy)");
+  if (mu_t) k.mu_t = *mu_t;
+  note("mu_t", mu_t.has_value());
+  const auto mu_p = col.real("mu_p", [](double v) { return std::abs(v) <= 10.0; }, "must be a number in [-10, 10]");
+  if (mu_p) k.mu_p = *mu_p;
+  note("mu_p", mu_p.has_value());
+  k.energy_threshold = col.real("energy_threshold", positive, "must be a number > 0 (an energy)");
+  note("energy_threshold", k.energy_threshold.has_value());
+  k.fragmentation_energy = col.real("fragmentation_energy", positive, "must be a number > 0 (an energy)");
+  note("fragmentation_energy", k.fragmentation_energy.has_value());
+  return given;
+}
+
+// Rules between the rigid-body keys and the rest.
+void check_rigid_body_rules(const Config& c, const std::vector<std::string>& given, bool restitution_given) {
+  const std::string& source = c.source;
+  const CollisionConfig& k = c.collision;
+  auto has = [&](const char* key) { return std::find(given.begin(), given.end(), key) != given.end(); };
+  if (c.engine.kind != EngineKind::rigid_body) {
+    if (!given.empty())
+      throw InputError(fmt::format("{}: collision.{} is a key of the rigid-body engine: it needs engine.kind = "
+                                   "\"rigid-body\"", source, given.front()));
+    if (k.outcome == CollisionOutcome::energy_threshold)
+      throw InputError(fmt::format("{}: collision.outcome = \"energy-threshold\" needs engine.kind = \"rigid-body\"",
+                                   source));
+    if (c.stop.aggregated_fraction)
+      throw InputError(fmt::format("{}: stop.aggregated_fraction needs engine.kind = \"rigid-body\"", source));
+    return;
+  }
+  if (has("energy_threshold") && k.outcome != CollisionOutcome::energy_threshold)
+    throw InputError(fmt::format("{}: collision.energy_threshold is only used with collision.outcome = "
+                                 "\"energy-threshold\"", source));
+  if (k.coagulation != Coagulation::sphere) {
+    for (const char* key : {"merged_radius", "constant_speed"})
+      if (has(key))
+        throw InputError(fmt::format("{}: collision.{} is only used with collision.coagulation = \"sphere\"", source, key));
+  } else if (k.fragmentation_energy) {
+    throw InputError(fmt::format("{}: collision.fragmentation_energy breaks aggregates up: it needs "
+                                 "collision.coagulation = \"aggregate\"", source));
+  }
+  if (k.constant_speed && c.initial.velocities != InitialVelocities::fixed_speed)
+    throw InputError(fmt::format("{}: collision.constant_speed keeps every speed at initial.speed: it needs "
+                                 "initial.velocities = \"fixed-speed\"", source));
+  if (k.restitution_law == RestitutionLaw::bridges && restitution_given)
+    throw InputError(fmt::format("{}: give collision.restitution (a constant) or collision.restitution_law = "
+                                 "\"bridges\", not both", source));
+  if (has("velocity_unit") && k.restitution_law != RestitutionLaw::bridges)
+    throw InputError(fmt::format("{}: collision.velocity_unit is only used with collision.restitution_law = "
+                                 "\"bridges\"", source));
+  if (c.system.dimension == 2 && k.mu_p != 0.0)
+    throw InputError(fmt::format("{}: collision.mu_p = {}: in 2D the contact has one tangent (use mu_t)", source, k.mu_p));
+}
+
 Config read_config(const toml::table& root, const std::string& source, const std::set<std::string>& overridden) {
   static const std::set<std::string> sections{"system", "initial", "collision", "engine", "ts", "stop", "output"};
   for (auto&& [k, node] : root) {
@@ -284,14 +359,16 @@ Config read_config(const toml::table& root, const std::string& source, const std
   ini.reject_unknown_keys();
 
   SectionReader col(root, "collision", source, overridden);
-  if (auto v = col.choice("outcome", {"stick", "bounce"})) c.collision.outcome = static_cast<CollisionOutcome>(*v);
-  if (auto v = col.real("restitution", [](double v) { return v >= 0.0 && v <= 1.0; }, "must be a number in [0, 1]"))
-    c.collision.restitution = *v;
+  if (auto v = col.choice("outcome", {"stick", "bounce", "energy-threshold"}))
+    c.collision.outcome = static_cast<CollisionOutcome>(*v);
+  const auto restitution = col.real("restitution", [](double v) { return v >= 0.0 && v <= 1.0; }, "must be a number in [0, 1]");
+  if (restitution) c.collision.restitution = *restitution;
   c.collision.tc_time = col.real("tc_time", [](double v) { return v >= 0.0; }, "must be a number >= 0");
+  const std::vector<std::string> rigid_keys = read_rigid_body_keys(col, c.collision);
   col.reject_unknown_keys();
 
   SectionReader eng(root, "engine", source, overridden);
-  if (auto v = eng.choice("kind", {"ed", "ed-naive", "ts"})) c.engine.kind = static_cast<EngineKind>(*v);
+  if (auto v = eng.choice("kind", {"ed", "ed-naive", "ts", "rigid-body"})) c.engine.kind = static_cast<EngineKind>(*v);
   c.engine.skin = eng.real("skin", positive, "must be a number > 0 (a length)");
   eng.reject_unknown_keys();
 
@@ -303,6 +380,8 @@ Config read_config(const toml::table& root, const std::string& source, const std
   if (auto v = stop.real("time", positive, "must be a number > 0 (inf for no limit)", true)) c.stop.time = *v;
   if (auto v = stop.real("wall_seconds", positive, "must be a number > 0 (inf for no limit)", true))
     c.stop.wall_seconds = *v;
+  c.stop.aggregated_fraction = stop.real("aggregated_fraction", [](double v) { return v > 0.0 && v <= 1.0; },
+                                         "must be a number in (0, 1]");
   stop.reject_unknown_keys();
 
   SectionReader out(root, "output", source, overridden);
@@ -321,6 +400,7 @@ Config read_config(const toml::table& root, const std::string& source, const std
   out.reject_unknown_keys();
 
   // Rules that involve several keys.
+  check_rigid_body_rules(c, rigid_keys, restitution.has_value());
   if (c.output.snapshot_every > 0.0 && c.output.snapshot_formats.empty())
     throw InputError(fmt::format("{}: output.snapshot_every = {} but output.snapshot_formats is empty "
                                  "(give \"h5md\", \"xyz\" or both, or set snapshot_every = 0)", source, c.output.snapshot_every));
@@ -401,7 +481,7 @@ std::string_view to_string(InitialVelocities v) {
   return names[static_cast<int>(v)];
 }
 std::string_view to_string(EngineKind k) {
-  static constexpr std::string_view names[] = {"ed", "ed-naive", "ts"};
+  static constexpr std::string_view names[] = {"ed", "ed-naive", "ts", "rigid-body"};
   return names[static_cast<int>(k)];
 }
 std::string_view to_string(SnapshotFormat f) { return f == SnapshotFormat::h5md ? "h5md" : "xyz"; }
@@ -410,7 +490,13 @@ std::string_view to_string(TsModel m) {
   return names[static_cast<int>(m)];
 }
 std::string_view to_string(TsDtRule r) { return r == TsDtRule::growth ? "growth" : "adaptive"; }
-std::string_view to_string(CollisionOutcome o) { return o == CollisionOutcome::stick ? "stick" : "bounce"; }
+std::string_view to_string(CollisionOutcome o) {
+  static constexpr std::string_view names[] = {"stick", "bounce", "energy-threshold"};
+  return names[static_cast<int>(o)];
+}
+std::string_view to_string(Coagulation c) { return c == Coagulation::aggregate ? "aggregate" : "sphere"; }
+std::string_view to_string(MergedRadius r) { return r == MergedRadius::constant_density ? "constant-density" : "fixed"; }
+std::string_view to_string(RestitutionLaw l) { return l == RestitutionLaw::constant ? "constant" : "bridges"; }
 
 namespace {
 
@@ -436,6 +522,25 @@ std::vector<Section> entries(const Config& c) {
   initial.second.push_back({"seed", static_cast<std::int64_t>(c.initial.seed)});
   Section collision{"collision", {{"outcome", str(to_string(c.collision.outcome))}, {"restitution", c.collision.restitution}}};
   if (c.collision.tc_time) collision.second.push_back({"tc_time", *c.collision.tc_time});
+  const bool rigid = c.engine.kind == EngineKind::rigid_body;
+  if (rigid) {
+    const CollisionConfig& k = c.collision;
+    auto& keys = collision.second;
+    keys.push_back({"coagulation", str(to_string(k.coagulation))});
+    if (k.coagulation == Coagulation::sphere) {
+      keys.push_back({"merged_radius", str(to_string(k.merged_radius))});
+      keys.push_back({"constant_speed", k.constant_speed});
+    }
+    keys.push_back({"restitution_law", str(to_string(k.restitution_law))});
+    if (k.restitution_law == RestitutionLaw::bridges) {
+      std::erase_if(keys, [](const auto& kv) { return kv.first == "restitution"; });
+      keys.push_back({"velocity_unit", k.velocity_unit});
+    }
+    keys.push_back({"mu_t", k.mu_t});
+    if (c.system.dimension == 3) keys.push_back({"mu_p", k.mu_p});
+    if (k.energy_threshold) keys.push_back({"energy_threshold", *k.energy_threshold});
+    if (k.fragmentation_energy) keys.push_back({"fragmentation_energy", *k.fragmentation_energy});
+  }
   Section engine{"engine", {{"kind", str(to_string(c.engine.kind))}}};
   if (c.engine.skin) engine.second.push_back({"skin", *c.engine.skin});
   const TimeSteppingSettings& t = c.ts;
@@ -456,6 +561,7 @@ std::vector<Section> entries(const Config& c) {
   ts.second.push_back({"stall_iterations", std::int64_t{d.stall_iterations}});
   ts.second.push_back({"max_link_rounds", std::int64_t{t.max_link_rounds}});
   Section stop{"stop", {{"clusters", c.stop.clusters}, {"time", c.stop.time}, {"wall_seconds", c.stop.wall_seconds}}};
+  if (c.stop.aggregated_fraction) stop.second.push_back({"aggregated_fraction", *c.stop.aggregated_fraction});
   std::vector<std::string> formats;
   for (SnapshotFormat f : c.output.snapshot_formats) formats.emplace_back(to_string(f));
   Section output{"output",

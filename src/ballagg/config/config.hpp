@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "ballagg/engines/engine.hpp"
+#include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
 #include "ballagg/engines/time_stepping/ts_settings.hpp"
 #include "ballagg/spatial/box.hpp"
 
@@ -23,7 +24,7 @@ class InputError : public std::runtime_error {
 
 enum class InitialPositions { lattice, random, file };
 enum class InitialVelocities { fixed_speed, uniform, gaussian };
-enum class EngineKind { ed, ed_naive, ts };
+enum class EngineKind { ed, ed_naive, ts, rigid_body };
 
 struct SystemConfig {
   int dimension = 2;
@@ -48,6 +49,15 @@ struct CollisionConfig {
   CollisionOutcome outcome = CollisionOutcome::stick;
   double restitution = 1.0;
   std::optional<double> tc_time;  // default: kDefaultTcFraction * diameter / rms speed
+  // Rigid-body engine only (docs/rigid_body.md).
+  Coagulation coagulation = Coagulation::aggregate;
+  MergedRadius merged_radius = MergedRadius::constant_density;
+  bool constant_speed = false;  // sphere coagulation: merged spheres keep initial.speed (model i)
+  RestitutionLaw restitution_law = RestitutionLaw::constant;
+  double velocity_unit = 1.0;   // cm/s per unit of speed, for the Bridges law
+  double mu_t = 0.0, mu_p = 0.0;
+  std::optional<double> energy_threshold;      // default: initial mean kinetic energy per body
+  std::optional<double> fragmentation_energy;  // unset: no fragmentation
 };
 
 struct EngineConfig {
@@ -59,6 +69,7 @@ struct StopConfig {
   std::int64_t clusters = 1;
   double time = std::numeric_limits<double>::infinity();
   double wall_seconds = std::numeric_limits<double>::infinity();
+  std::optional<double> aggregated_fraction;  // rigid-body engine only
 };
 
 enum class SnapshotFormat { h5md, xyz };
@@ -108,5 +119,8 @@ std::string_view to_string(EngineKind k);
 std::string_view to_string(SnapshotFormat f);
 
 std::string_view to_string(CollisionOutcome o);
+std::string_view to_string(Coagulation c);
+std::string_view to_string(MergedRadius r);
+std::string_view to_string(RestitutionLaw l);
 
 }  // namespace ballagg

@@ -111,24 +111,143 @@ int State<D>::merge(int i, int j, double t) {
   keep.lo = keep.lo.cwiseMin(gone.lo + shift);
   keep.hi = keep.hi.cwiseMax(gone.hi + shift);
   const Vec<D> v = stick_velocity(keep.mass, keep.velocity, gone.mass, gone.velocity);
-  keep.mass += gone.mass;
-  keep.members.insert(keep.members.end(), gone.members.begin(), gone.members.end());
-  keep.last_collision_time = t;
-  gone.members.clear();
-  gone.members.shrink_to_fit();
-  gone.mass = 0.0;
-  gone.velocity.setZero();
-  gone.stamp = new_stamp();
-  const std::int32_t moved = alive_.back();
-  alive_[alive_slot_[b]] = moved;
-  alive_slot_[moved] = alive_slot_[b];
-  alive_.pop_back();
-  alive_slot_[b] = -1;
-  largest_cluster_ = std::max(largest_cluster_, keep.size());
+  absorb(a, b, t);
   assign_motion(a, v, t);
   add_to_totals(a, +1.0);
   if (n_clusters() <= resync_below_) resync_totals();
   return a;
+}
+
+template <int D>
+void State<D>::retire(int c) {
+  const std::int32_t moved = alive_.back();
+  alive_[alive_slot_[c]] = moved;
+  alive_slot_[moved] = alive_slot_[c];
+  alive_.pop_back();
+  alive_slot_[c] = -1;
+}
+
+template <int D>
+void State<D>::absorb(int keep, int gone, double t) {
+  Cluster<D>& k = clusters[keep];
+  Cluster<D>& g = clusters[gone];
+  k.mass += g.mass;
+  k.members.insert(k.members.end(), g.members.begin(), g.members.end());
+  k.last_collision_time = t;
+  g.members.clear();
+  g.members.shrink_to_fit();
+  g.mass = 0.0;
+  g.velocity.setZero();
+  g.stamp = new_stamp();
+  if (!spin.empty()) spin[gone] = {};
+  retire(gone);
+  largest_cluster_ = std::max(largest_cluster_, k.size());
+}
+
+template <int D>
+void State<D>::set_rigid_motion(int c, const Vec<D>& x, const Vec<D>& v, double t) {
+  add_to_totals(c, -1.0);
+  place(c, x, v, t);
+  add_to_totals(c, +1.0);
+}
+
+template <int D>
+void State<D>::place(int c, const Vec<D>& x, const Vec<D>& v, double t) {
+  Cluster<D>& k = clusters[c];
+  k.anchor = x;
+  k.anchor_time = t;
+  k.velocity = v;
+  k.stamp = new_stamp();
+}
+
+template <int D>
+void State<D>::join_rigid(int keep, int gone, const Vec<D>& x, const Vec<D>& v, double t) {
+  add_to_totals(keep, -1.0);
+  add_to_totals(gone, -1.0);
+  for (int m : clusters[gone].members) spheres.cluster[m] = keep;
+  absorb(keep, gone, t);
+  place(keep, x, v, t);
+  add_to_totals(keep, +1.0);
+  if (n_clusters() <= resync_below_) resync_totals();
+}
+
+template <int D>
+int State<D>::coalesce_spheres(int i, int j, double r, const Vec<D>& x, const Vec<D>& v, double t) {
+  const int a = spheres.cluster[i], b = spheres.cluster[j];
+  const int largest = largest_cluster_;
+  join_rigid(a, b, x, v, t);
+  largest_cluster_ = std::max(largest, 1);
+  spheres.mass[i] += spheres.mass[j];
+  spheres.radius[i] = r;
+  spheres.offset[i].setZero();
+  max_radius_ = std::max(max_radius_, r);
+  min_diameter_ = std::min(min_diameter_, 2.0 * r);
+  // Sphere j leaves; the last sphere takes its id.
+  const int last = n_spheres() - 1;
+  std::vector<std::int32_t>& members = clusters[a].members;
+  members.erase(std::find(members.begin(), members.end(), j));
+  int moved = -1;
+  if (j != last) {
+    moved = last;
+    spheres.offset[j] = spheres.offset[last];
+    spheres.radius[j] = spheres.radius[last];
+    spheres.mass[j] = spheres.mass[last];
+    spheres.cluster[j] = spheres.cluster[last];
+    std::vector<std::int32_t>& holder = clusters[spheres.cluster[j]].members;
+    *std::find(holder.begin(), holder.end(), last) = j;
+  }
+  spheres.offset.pop_back();
+  spheres.radius.pop_back();
+  spheres.mass.pop_back();
+  spheres.cluster.pop_back();
+  double spread = 0.0;
+  for (double radius : spheres.radius) spread += radius - spheres.radius.front();
+  mean_radius_ = spheres.radius.front() + spread / n_spheres();
+  return moved;
+}
+
+template <int D>
+std::vector<std::int32_t> State<D>::split_rigid(int c, const std::vector<std::int32_t>& empty_clusters, double t) {
+  const std::vector<std::int32_t> members = clusters[c].members;
+  std::vector<std::int32_t> ids{static_cast<std::int32_t>(c)};
+  std::vector<Vec<D>> at(members.size());
+  for (std::size_t k = 0; k < members.size(); ++k) at[k] = unwrapped_position(members[k], t);
+  add_to_totals(c, -1.0);
+  Cluster<D>& first = clusters[c];
+  first.members.assign(1, members.front());
+  first.mass = spheres.mass[members.front()];
+  first.velocity.setZero();
+  for (std::size_t k = 1; k < members.size(); ++k) {
+    const std::int32_t id = empty_clusters[k - 1];
+    Cluster<D>& piece = clusters[id];
+    piece.members.assign(1, members[k]);
+    piece.mass = spheres.mass[members[k]];
+    piece.velocity.setZero();
+    piece.last_collision_time = t;
+    alive_slot_[id] = static_cast<std::int32_t>(alive_.size());
+    alive_.push_back(id);
+    spheres.cluster[members[k]] = id;
+    ids.push_back(id);
+  }
+  for (std::size_t k = 0; k < members.size(); ++k) {
+    Cluster<D>& piece = clusters[ids[k]];
+    spheres.offset[members[k]].setZero();
+    piece.anchor = at[k];
+    piece.anchor_time = t;
+    piece.stamp = new_stamp();
+    piece.lo = piece.hi = Vec<D>::Zero();
+  }
+  largest_cluster_ = 0;
+  for (int a : alive_) largest_cluster_ = std::max(largest_cluster_, clusters[a].size());
+  return ids;
+}
+
+template <int D>
+void State<D>::reserve_clusters(int n) {
+  if (static_cast<int>(clusters.size()) >= n) return;
+  clusters.resize(n);
+  alive_slot_.resize(n, -1);
+  if (!spin.empty()) spin.resize(n);
 }
 
 template <int D>

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "ballagg/core/spin.hpp"
 #include "ballagg/core/vec.hpp"
 #include "ballagg/spatial/box.hpp"
 
@@ -44,6 +45,15 @@ struct alignas(64) Cluster {
   int size() const { return static_cast<int>(members.size()); }
 };
 
+// The rotation of a rigid cluster (engine.kind = "rigid-body", docs/rigid_body.md): its
+// angular velocity (space frame) and spin angular momentum about its centre of mass.
+template <int D>
+struct ClusterSpin {
+  Spin<D> angular_velocity = Spin<D>::Zero();
+  Spin<D> angular_momentum = Spin<D>::Zero();
+  double energy() const { return 0.5 * angular_velocity.dot(angular_momentum); }  // eq. (2)
+};
+
 template <int D>
 struct StateCodec;  // checkpoints: core/state_codec.hpp
 
@@ -54,6 +64,9 @@ class State {
   Spheres<D> spheres;
   std::vector<Cluster<D>> clusters;
   double time = 0.0;
+  // Empty unless clusters rotate (rigid-body engine, or an input file with spin columns);
+  // then indexed by cluster id. Engines whose clusters only translate never read it.
+  std::vector<ClusterSpin<D>> spin;
 
   // Call once spheres and clusters are filled: computes extents, stamps and totals.
   void finalize();
@@ -126,6 +139,28 @@ class State {
   // walls, momentum() changes by exactly this (up to round-off); periodic boxes keep 0.
   const Vec<D>& wall_impulse() const { return wall_impulse_; }
 
+  // ---- rotating rigid bodies (rigid-body engine) ------------------------------------------
+  // There a cluster's anchor is its centre of mass, not folded into a periodic box (the
+  // engine keeps the unwrapped trajectory), and its offsets are the spheres' positions
+  // relative to it at the last time the engine wrote them (it rotates them itself).
+
+  // Cluster c moves with velocity v from centre x at time t (no wall pinning).
+  void set_rigid_motion(int c, const Vec<D>& x, const Vec<D>& v, double t);
+  // The spheres of cluster `gone` join cluster `keep`, which from time t moves with
+  // velocity v from centre x; offsets are left to the caller. O(size of gone).
+  void join_rigid(int keep, int gone, const Vec<D>& x, const Vec<D>& v, double t);
+  // The single spheres i and j (each a cluster of its own) become one sphere, i, of
+  // radius r and mass m_i + m_j moving with v from x at time t. Sphere j is removed: the
+  // last sphere takes its id. Returns the old id of the sphere now numbered j (-1 if j
+  // was the last).
+  int coalesce_spheres(int i, int j, double r, const Vec<D>& x, const Vec<D>& v, double t);
+  // Every sphere of cluster c but its first moves to a cluster of its own, taken from
+  // `empty_clusters` in order (they must have no members), at rest at its position at
+  // time t (offsets must be current). Returns the ids, first sphere's (c) first.
+  std::vector<std::int32_t> split_rigid(int c, const std::vector<std::int32_t>& empty_clusters, double t);
+  // Appends empty clusters until there are at least n.
+  void reserve_clusters(int n);
+
  private:
   friend struct StateCodec<D>;  // saves and restores the bookkeeping below exactly
   std::uint64_t new_stamp() { return ++last_stamp_; }
@@ -140,6 +175,13 @@ class State {
     running_momentum_ = momentum();
     resync_below_ = n_clusters() / 2;
   }
+  // Removes the (now empty) cluster c from the list of live clusters.
+  void retire(int c);
+  // Moves the members and mass of cluster `gone` (already relabelled to `keep`) into
+  // `keep`, empties and retires `gone`. Motion and totals are the caller's.
+  void absorb(int keep, int gone, double t);
+  // Cluster c's body origin is at x at time t, moving at v (totals are the caller's).
+  void place(int c, const Vec<D>& x, const Vec<D>& v, double t);
 
   std::uint64_t last_stamp_ = 0;
   std::vector<std::int32_t> alive_;       // ids of clusters with members

@@ -9,6 +9,8 @@ std::string_view to_string(StopReason r) {
     case StopReason::wall_seconds: return "wall_seconds";
     case StopReason::no_more_events: return "no_more_events";
     case StopReason::no_collision_possible: return "no_collision_possible";
+    case StopReason::aggregated: return "aggregated";
+    case StopReason::body_spans_box: return "body_spans_box";
   }
   return "unknown";
 }

@@ -12,7 +12,9 @@
 
 namespace ballagg {
 
-enum class CollisionOutcome { stick, bounce };
+// energy_threshold (rigid-body engine only, Richardson 1995 §3): impacts with less energy
+// than a threshold stick, the others bounce.
+enum class CollisionOutcome { stick, bounce, energy_threshold };
 
 struct CollisionSettings {
   CollisionOutcome outcome = CollisionOutcome::stick;
@@ -27,12 +29,19 @@ struct StopCriteria {
   int clusters = 1;
   double time = std::numeric_limits<double>::infinity();
   double wall_seconds = std::numeric_limits<double>::infinity();
+  // Rigid-body engine: stop once this fraction of the mass is in bodies of two or more
+  // spheres (or merged spheres); above 1: never.
+  double aggregated_fraction = std::numeric_limits<double>::infinity();
 };
 
-enum class StopReason { clusters, time, wall_seconds, no_more_events, no_collision_possible };
+// aggregated: stop.aggregated_fraction reached; body_spans_box: a rigid body became as
+// large as the periodic box and could touch its own image (rigid-body engine).
+enum class StopReason { clusters, time, wall_seconds, no_more_events, no_collision_possible, aggregated, body_spans_box };
 std::string_view to_string(StopReason r);
 
-enum class EventKind : std::uint8_t { collision = 0, wall = 1, list_rebuild = 2, time_step = 3 };
+// contact_search: the rigid-body engine resumes the search for the first contact of two
+// rotating bodies (or of a rotating body and a wall) at this time.
+enum class EventKind : std::uint8_t { collision = 0, wall = 1, list_rebuild = 2, time_step = 3, contact_search = 4 };
 
 // What the engine tells an observer after each event it handled.
 struct EventRecord {
@@ -64,6 +73,12 @@ struct EngineCounters {
   std::int64_t rounds_exhausted = 0;   // steps that reached max_link_rounds
   double max_residual_overlap = 0.0;   // largest relative overlap left after any step
   double max_link_stretch = 0.0;       // largest d / (R_i + R_j) - 1 of an old link after a step
+  // Rigid bodies.
+  std::int64_t first_time_collisions = 0;  // N_C1: collisions not repeating the bodies' previous pair
+  std::int64_t fragmentations = 0;         // catastrophic breakups (Richardson §2.6)
+  std::int64_t contact_searches = 0;       // contact_search events handled
+  std::int64_t advancement_steps = 0;      // conservative-advancement steps on rotating trajectories
+  std::int64_t pose_evaluations = 0;       // orientations computed by the free-rotation propagator
 };
 
 struct RunResult {
@@ -88,6 +103,16 @@ class RunObserver {
   // on_checkpoint (which may end the run by throwing). Keep checkpoint_due cheap.
   virtual bool checkpoint_due() { return false; }
   virtual void on_checkpoint(const State<D>&, const EngineCounters&, const std::string& /*engine_state*/) {}
+
+  // Engines whose clusters only translate keep State::position exact at every time. The
+  // rigid-body engine rotates clusters and writes the spheres' offsets into the state
+  // only when asked: at on_start, on_finish, and at the time returned here, the next time
+  // this observer will read sphere positions (or the clusters' angular velocities) between
+  // events. Before calling before_event(s, t) with t past that time, it brings the state
+  // to exactly that time and calls before_event(s, just after it) first; an after_event
+  // call finds the state exact if this is <= s.time. An observer that reads only cluster
+  // totals (counts, energies, momenta) keeps the default: never.
+  virtual double next_position_read() const { return std::numeric_limits<double>::infinity(); }
 };
 
 template <int D>

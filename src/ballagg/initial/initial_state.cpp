@@ -294,6 +294,21 @@ State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table_in) {
       }
     }
   }
+  if (!t.spin.empty()) {
+    // Spin columns: each cluster spins as its first sphere says; the others must agree.
+    double max_spin = 0.0;
+    for (const Spin<D>& w : t.spin) max_spin = std::max(max_spin, w.norm());
+    s.spin.resize(members.size());
+    for (std::size_t c = 0; c < members.size(); ++c) {
+      const int root = members[c].front();
+      s.spin[c].angular_velocity = t.spin[root];
+      for (int i : members[c])
+        if ((t.spin[i] - t.spin[root]).norm() > tolerance::kGluedVelocity * max_spin)
+          throw InputError(fmt::format("{}: spin {} differs from {} of the first sphere of its cluster ({}); "
+                                       "spheres glued into one cluster must spin together",
+                                       where(t, i), fmt_vec(t.spin[i]), fmt_vec(t.spin[root]), where(t, root)));
+    }
+  }
   s.finalize();
   return s;
 }
@@ -312,6 +327,14 @@ State<D> make_initial_state(const Config& c) {
     table.mass.assign(c.system.n, c.system.mass);
   }
   State<D> s = assemble_state(box, table);
+  if (c.engine.kind != EngineKind::rigid_body) {
+    for (std::size_t i = 0; i < table.spin.size(); ++i)
+      if (table.spin[i] != Spin<D>::Zero())
+        throw InputError(fmt::format("{}: the sphere spins ({}), but engine.kind = \"{}\" does not rotate clusters: "
+                                     "use engine.kind = \"rigid-body\" or set the spin columns to 0",
+                                     where(table, static_cast<int>(i)), fmt_vec(table.spin[i]), to_string(c.engine.kind)));
+    s.spin.clear();
+  }
   if (c.initial.zero_momentum) {
     const Vec<D> mean = s.momentum() / s.total_mass();
     for (int k = 0; k < static_cast<int>(s.clusters.size()); ++k)

@@ -16,10 +16,10 @@ using Json = nlohmann::ordered_json;
 // NaN and infinities have no JSON number: null.
 Json number(double v) { return std::isfinite(v) ? Json(v) : Json(nullptr); }
 
-template <int D>
-Json vector_json(const Vec<D>& v) {
+template <int N>
+Json vector_json(const Eigen::Matrix<double, N, 1>& v) {
   Json a = Json::array();
-  for (int k = 0; k < D; ++k) a.push_back(number(v[k]));
+  for (int k = 0; k < N; ++k) a.push_back(number(v[k]));
   return a;
 }
 
@@ -30,6 +30,10 @@ Json fit_json(const std::optional<LinearFit>& f) {
               {"intercept", number(f->intercept)},
               {"intercept_error", number(f->intercept_error)},
               {"points", f->points}};
+}
+
+Json weighted_mean_json(const WeightedMean& m) {
+  return Json{{"mean", number(m.mean)}, {"spread", number(m.spread)}, {"clusters", m.clusters}};
 }
 
 Json box_counting_json(const BoxCounting& b) {
@@ -61,7 +65,14 @@ Json cluster_json(const ClusterSummary<D>& c) {
               {"box_counting_dimension_error", number(c.box_dimension_error)},
               {"mass_radius_dimension", number(c.mass_radius_dimension)},
               {"mass_radius_dimension_error", number(c.mass_radius_dimension_error)},
-              {"percolating", c.percolating}};
+              {"richardson_dimension", number(c.richardson_dimension)},
+              {"richardson_dimension_error", number(c.richardson_dimension_error)},
+              {"percolating", c.percolating},
+              {"velocity", vector_json<D>(c.motion.velocity)},
+              {"angular_velocity", vector_json<kSpinDim<D>>(c.motion.angular_velocity)},
+              {"spin", number(c.motion.spin())},
+              {"translational_energy", number(c.motion.translational_energy)},
+              {"rotational_energy", number(c.motion.rotational_energy)}};
 }
 
 std::string num(double v) { return fmt::format("{}", v); }
@@ -77,7 +88,10 @@ std::string clusters_csv(const AggregateAnalysis<D>& a) {
   for (int k = 0; k < D; ++k) put(",lambda_", k + 1);
   for (int k = 0; k < D; ++k) put(",orientation_", axes[k]);
   put(",contacts,box_counting_dimension,box_counting_dimension_error,mass_radius_dimension,"
-      "mass_radius_dimension_error,percolating\n");
+      "mass_radius_dimension_error,richardson_dimension,richardson_dimension_error,percolating");
+  for (int k = 0; k < D; ++k) put(",velocity_", axes[k]);
+  for (int k = 3 - kSpinDim<D>; k < 3; ++k) put(",omega_", axes[k]);  // 2D: omega_z only
+  put(",spin,translational_energy,rotational_energy\n");
   for (std::size_t c = 0; c < a.clusters.size(); ++c) {
     const ClusterSummary<D>& s = a.clusters[c];
     put(c, ",", s.size, ",", num(s.mass));
@@ -86,7 +100,11 @@ std::string clusters_csv(const AggregateAnalysis<D>& a) {
     for (int k = 0; k < D; ++k) put(",", num(s.shape.eigenvalues[k]));
     for (int k = 0; k < D; ++k) put(",", num(s.shape.orientation()[k]));
     put(",", num(s.contacts), ",", num(s.box_dimension), ",", num(s.box_dimension_error), ",",
-        num(s.mass_radius_dimension), ",", num(s.mass_radius_dimension_error), ",", s.percolating ? 1 : 0, "\n");
+        num(s.mass_radius_dimension), ",", num(s.mass_radius_dimension_error), ",", num(s.richardson_dimension), ",",
+        num(s.richardson_dimension_error), ",", s.percolating ? 1 : 0);
+    for (int k = 0; k < D; ++k) put(",", num(s.motion.velocity[k]));
+    for (int k = 0; k < kSpinDim<D>; ++k) put(",", num(s.motion.angular_velocity[k]));
+    put(",", num(s.motion.spin()), ",", num(s.motion.translational_energy), ",", num(s.motion.rotational_energy), "\n");
   }
   return fmt::to_string(out);
 }
@@ -120,8 +138,8 @@ std::string mass_radius_csv(const AggregateAnalysis<D>& a) {
 }
 
 std::string mass_spectrum_csv(const std::vector<MassSpectrumBin>& bins) {
-  std::string out = "size,clusters\n";
-  for (const MassSpectrumBin& b : bins) out += fmt::format("{},{}\n", b.size, b.clusters);
+  std::string out = "size,mass,clusters\n";
+  for (const MassSpectrumBin& b : bins) out += fmt::format("{},{},{}\n", b.size, b.mass, b.clusters);
   return out;
 }
 
@@ -137,12 +155,18 @@ std::map<std::string, std::string> analysis_files(const AggregateAnalysis<D>& a,
   j["box_length"] = a.box.length;
   j["boundary"] = to_string(a.box.boundary);
   j["length_unit"] = a.length_unit;
+  j["mass"] = a.mass;
+  j["aggregated_mass_fraction"] = number(a.aggregated_mass_fraction);
+  j["heaviest_mass_fraction"] = number(a.heaviest_mass_fraction);
+  j["translational_energy"] = a.translational_energy;
+  j["rotational_energy"] = a.rotational_energy;
   j["definitions"] = Json{{"contact_factor_alpha_R", kContactFactor},
                           {"max_contacts_N_max", kMaxContacts<D>},
                           {"pair_distribution_r_over_R", {kPairDistributionMin, kPairDistributionMax}},
                           {"box_counting_eps_range", {fmt::format("{} R", kBoxCountingSmallest), "L/2"}},
                           {"mass_radius_r_range", {fmt::format("{} R", kMassRadiusInner), "R_g"}},
-                          {"fractal_min_size", kFractalMinSize}};
+                          {"fractal_min_size", kFractalMinSize},
+                          {"richardson_min_size", kRichardsonMinSize}};
   j["all_spheres"] = Json{{"contacts", number(a.contacts)},
                           {"contacts_with_self", number(relative_contacts_with_self<D>(a.contacts))},
                           {"box_counting", box_counting_json(a.box_counting)},
@@ -160,7 +184,9 @@ std::map<std::string, std::string> analysis_files(const AggregateAnalysis<D>& a,
                          {"min_size", kPopulationMinSize},
                          {"r_max_vs_size", fit_json(a.population.r_max)},
                          {"density_vs_size", fit_json(a.population.density)},
-                         {"dimension_from_density", number(a.population.dimension)}};
+                         {"dimension_from_density", number(a.population.dimension)},
+                         {"mean_mass_radius_dimension", weighted_mean_json(a.population.mass_radius_dimension)},
+                         {"mean_richardson_dimension", weighted_mean_json(a.population.richardson_dimension)}};
   j["files"] = {"clusters.csv", "mass_spectrum.csv", "box_counting.csv", "pair_distribution.csv", "mass_radius.csv"};
   return {{"analysis.json", j.dump(2) + "\n"},
           {"clusters.csv", clusters_csv(a)},

@@ -25,11 +25,13 @@ void capture_source(const State<D>& s, double t, std::int64_t step, bool mirror_
   if (out.slot.size() != s.clusters.size()) out.slot.resize(s.clusters.size());
   out.origin.resize(s.alive_clusters().size());
   out.velocity.resize(s.alive_clusters().size());
+  out.angular_velocity.resize(s.spin.empty() ? 0 : s.alive_clusters().size());
   std::int32_t k = 0;
   for (int c : s.alive_clusters()) {
     out.slot[c] = k;
     out.origin[k] = s.origin(c, t);
     out.velocity[k] = s.clusters[c].velocity;
+    if (!s.spin.empty()) out.angular_velocity[k] = s.spin[c].angular_velocity;
     if (mirror_at_walls && !s.box.periodic()) {
       const WallCorrection<D> w = wall_correction(s, c, t);
       out.origin[k] += w.shift;
@@ -61,6 +63,7 @@ void assemble_frame(const FrameSource<D>& src, Frame<D>& f) {
     const Vec<D> x = src.origin[c] + src.offset[i];
     f.position[i] = src.box.wrap(x);
     f.velocity[i] = src.velocity[c];
+    if (!src.angular_velocity.empty()) f.velocity[i] += cross(src.angular_velocity[c], src.offset[i]);
     if (src.box.periodic())
       for (int a = 0; a < D; ++a)
         f.image[i][a] = static_cast<std::int32_t>(std::lround((x[a] - f.position[i][a]) / length));

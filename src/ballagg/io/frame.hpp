@@ -19,7 +19,7 @@ struct Frame {
   double time = 0.0;
   std::int64_t step = 0;             // events handled before this instant (ts: time steps)
   std::vector<Vec<D>> position;      // folded into a periodic box
-  std::vector<Vec<D>> velocity;
+  std::vector<Vec<D>> velocity;      // of the sphere: V + omega x (x - centre) for a rotating cluster
   // Periodic boxes: which copy of the box each sphere's unfolded position is in, so that
   // position + image * L puts every cluster in one piece (empty with walls).
   std::vector<Image<D>> image;
@@ -58,6 +58,9 @@ struct FrameSource {
   std::vector<std::int32_t> cluster;
   std::vector<std::int32_t> slot;         // per cluster id: its index below (dead ids: unset)
   std::vector<Vec<D>> origin, velocity;   // per live cluster: body origin at `time`, velocity
+  // Per live cluster when clusters rotate (State::spin; the body origin is then the centre
+  // of mass): angular velocity. Empty otherwise.
+  std::vector<Spin<D>> angular_velocity;
 };
 
 // The state at time t, for t from s.time up to the next event (positions are lazy). With

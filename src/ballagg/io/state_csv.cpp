@@ -38,12 +38,21 @@ std::vector<std::string> column_names() {
   else return {"x", "y", "z", "vx", "vy", "vz", "radius", "mass"};
 }
 
+// The angular velocity of a sphere's cluster (rotating bodies only).
+template <int D>
+std::vector<std::string> spin_names() {
+  if constexpr (D == 2) return {"wz"};
+  else return {"wx", "wy", "wz"};
+}
+
 }  // namespace
 
 template <int D>
 SphereTable<D> parse_state_csv(const std::string& text, const std::string& source) {
   const std::vector<std::string> required = column_names<D>();
-  const std::string expected = fmt::format("{},cluster (cluster optional)", fmt::join(required, ","));
+  const std::vector<std::string> spin = spin_names<D>();
+  const std::string expected = fmt::format("{},cluster,{} (cluster and spin optional)", fmt::join(required, ","),
+                                           fmt::join(spin, ","));
   SphereTable<D> table;
   table.source = source;
   std::map<std::string, int> column;  // name -> field index
@@ -62,7 +71,8 @@ SphereTable<D> parse_state_csv(const std::string& text, const std::string& sourc
       n_fields = fields.size();
       for (std::size_t k = 0; k < fields.size(); ++k) {
         const std::string name(fields[k]);
-        const bool known = name == "cluster" || std::find(required.begin(), required.end(), name) != required.end();
+        const bool known = name == "cluster" || std::find(required.begin(), required.end(), name) != required.end() ||
+                           std::find(spin.begin(), spin.end(), name) != spin.end();
         if (!known) {
           const bool other_dim = name == "z" || name == "vz";
           throw InputError(fmt::format("{}:{}: unknown column '{}'{} (expected {})", source, line_no, name,
@@ -74,6 +84,9 @@ SphereTable<D> parse_state_csv(const std::string& text, const std::string& sourc
       for (const std::string& name : required)
         if (!column.count(name))
           throw InputError(fmt::format("{}:{}: missing column '{}' (expected {})", source, line_no, name, expected));
+      const auto spins = std::count_if(spin.begin(), spin.end(), [&](const std::string& n) { return column.count(n) > 0; });
+      if (spins != 0 && spins != static_cast<long>(spin.size()))
+        throw InputError(fmt::format("{}:{}: give all the spin columns {} or none", source, line_no, fmt::join(spin, ",")));
       continue;
     }
     if (fields.size() != n_fields)
@@ -105,6 +118,11 @@ SphereTable<D> parse_state_csv(const std::string& text, const std::string& sourc
         throw InputError(fmt::format("{}:{}: column cluster: '{}' is not an integer", source, line_no, f));
       table.cluster.push_back(id);
     }
+    if (column.count(spin.front())) {
+      Spin<D> w;
+      for (int a = 0; a < kSpinDim<D>; ++a) w[a] = number(spin[a]);
+      table.spin.push_back(w);
+    }
     table.position.push_back(x);
     table.velocity.push_back(v);
     table.radius.push_back(radius);
@@ -127,7 +145,9 @@ std::string state_csv_text(const State<D>& s) {
   std::vector<int> label(s.clusters.size(), -1);
   int next_label = 0;
   fmt::memory_buffer out;
-  fmt::format_to(std::back_inserter(out), "{},cluster\n", fmt::join(column_names<D>(), ","));
+  const bool spinning = !s.spin.empty();
+  fmt::format_to(std::back_inserter(out), "{},cluster{}{}\n", fmt::join(column_names<D>(), ","), spinning ? "," : "",
+                 spinning ? fmt::format("{}", fmt::join(spin_names<D>(), ",")) : std::string());
   for (int i = 0; i < s.n_spheres(); ++i) {
     const Vec<D> x = s.position(i, s.time);
     const Vec<D>& v = s.velocity(i);
@@ -135,7 +155,12 @@ std::string state_csv_text(const State<D>& s) {
     for (int a = 0; a < D; ++a) fmt::format_to(std::back_inserter(out), "{},", v[a]);
     int& l = label[s.spheres.cluster[i]];
     if (l < 0) l = next_label++;
-    fmt::format_to(std::back_inserter(out), "{},{},{}\n", s.spheres.radius[i], s.spheres.mass[i], l);
+    fmt::format_to(std::back_inserter(out), "{},{},{}", s.spheres.radius[i], s.spheres.mass[i], l);
+    if (spinning) {
+      const Spin<D>& w = s.spin[s.spheres.cluster[i]].angular_velocity;
+      for (int a = 0; a < kSpinDim<D>; ++a) fmt::format_to(std::back_inserter(out), ",{}", w[a]);
+    }
+    out.push_back('\n');
   }
   return fmt::to_string(out);
 }

@@ -3,7 +3,9 @@
 //   x,y,vx,vy,radius,mass[,cluster]            (2D)
 //   x,y,z,vx,vy,vz,radius,mass[,cluster]       (3D)
 // Columns may come in any order; lines starting with '#' and blank lines are skipped.
-// Spheres with the same `cluster` value form one rigid cluster.
+// Spheres with the same `cluster` value form one rigid cluster. Optional spin columns give
+// each cluster's angular velocity: wz (2D) or wx,wy,wz (3D); final.csv of a rigid-body run
+// has them.
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -17,6 +19,7 @@ struct SphereTable {
   std::vector<Vec<D>> position, velocity;
   std::vector<double> radius, mass;
   std::vector<std::int64_t> cluster;  // empty when the file has no cluster column
+  std::vector<Spin<D>> spin;          // empty when the file has no spin columns
   std::vector<int> line;              // file line of each sphere, for error messages
   std::string source;                 // file name
 };

@@ -1,5 +1,6 @@
 #include "ballagg/io/timeseries.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -14,7 +15,14 @@ void TimeseriesRecorder<D>::on_start(const State<D>& s) {
   csv_ = "time,clusters,largest_cluster,kinetic_energy,";
   static constexpr const char* momentum_columns[] = {"px,", "py,", "pz,"};
   for (int a = 0; a < D; ++a) csv_ += momentum_columns[a];
-  csv_ += "events,collisions\n";
+  csv_ += "events,collisions";
+  if (rotating_) {
+    csv_ += ",first_time_collisions,max_mass";
+    static constexpr const char* dispersion_columns[] = {",sigma_vx", ",sigma_vy", ",sigma_vz"};
+    for (int a = 0; a < D; ++a) csv_ += dispersion_columns[a];
+    csv_ += D == 2 ? ",rotational_energy,lz" : ",rotational_energy,lx,ly,lz";
+  }
+  csv_ += "\n";
   next_sample_ = s.time + interval_;
   row(s, s.time);
 }
@@ -37,6 +45,7 @@ template <int D>
 void TimeseriesRecorder<D>::after_event(const State<D>& s, const EventRecord&, const EngineCounters& c) {
   events_ = c.events;
   collisions_ = c.collisions;
+  first_time_collisions_ = c.first_time_collisions;
   if (s.n_clusters() <= next_drop_) row(s, s.time);
 }
 
@@ -44,7 +53,38 @@ template <int D>
 void TimeseriesRecorder<D>::on_finish(const State<D>& s, const RunResult& r) {
   events_ = r.counters.events;
   collisions_ = r.counters.collisions;
+  first_time_collisions_ = r.counters.first_time_collisions;
   if (events_ != last_row_events_ || s.time != last_row_time_) row(s, s.time);
+}
+
+// Rotating bodies: N_C1, the largest body mass, sigma_v per axis (over bodies), the
+// rotational energy and the angular momentum about the box centre (centres of mass on
+// their unwrapped trajectories: free flight conserves it exactly).
+template <int D>
+void TimeseriesRecorder<D>::rotation_columns(const State<D>& s, double t) {
+  double max_mass = 0.0, rotational = 0.0;
+  Vec<D> mean = Vec<D>::Zero(), mean_square = Vec<D>::Zero();
+  Spin<D> angular = Spin<D>::Zero();
+  const Vec<D> centre = Vec<D>::Constant(0.5 * s.box.length);
+  for (int c : s.alive_clusters()) {
+    const Cluster<D>& k = s.clusters[c];
+    max_mass = std::max(max_mass, k.mass);
+    mean += k.velocity;
+    mean_square += k.velocity.cwiseProduct(k.velocity);
+    angular += k.mass * cross(Vec<D>(s.origin(c, t) - centre), k.velocity);
+    if (!s.spin.empty()) {
+      rotational += s.spin[c].energy();
+      angular += s.spin[c].angular_momentum;
+    }
+  }
+  const double n = std::max(1, s.n_clusters());
+  mean /= n;
+  mean_square /= n;
+  fmt::format_to(std::back_inserter(csv_), ",{},{}", first_time_collisions_, max_mass);
+  for (int a = 0; a < D; ++a)
+    fmt::format_to(std::back_inserter(csv_), ",{}", std::sqrt(std::max(0.0, mean_square[a] - mean[a] * mean[a])));
+  fmt::format_to(std::back_inserter(csv_), ",{}", rotational);
+  for (int a = 0; a < kSpinDim<D>; ++a) fmt::format_to(std::back_inserter(csv_), ",{}", angular[a]);
 }
 
 template <int D>
@@ -53,7 +93,9 @@ void TimeseriesRecorder<D>::row(const State<D>& s, double t) {
   fmt::format_to(std::back_inserter(csv_), "{},{},{},{},", t, s.n_clusters(), s.largest_cluster(),
                  s.running_kinetic_energy());
   for (int a = 0; a < D; ++a) fmt::format_to(std::back_inserter(csv_), "{},", p[a]);
-  fmt::format_to(std::back_inserter(csv_), "{},{}\n", events_, collisions_);
+  fmt::format_to(std::back_inserter(csv_), "{},{}", events_, collisions_);
+  if (rotating_) rotation_columns(s, t);
+  csv_ += '\n';
   last_row_time_ = t;
   last_row_events_ = events_;
   schedule_drop(s.n_clusters());

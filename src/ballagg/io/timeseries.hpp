@@ -4,6 +4,10 @@
 // `interval` of simulated time if interval > 0, and one for the final state. That is
 // about 200 rows per e-fold of the cluster count: enough to plot N(t) on log axes, and
 // bounded (about 2800 rows for a million spheres).
+//
+// With rotating bodies (rigid-body engine) each row also has the first-time collisions
+// N_C1, the largest body mass, the velocity dispersion of the bodies along each axis, the
+// rotational kinetic energy and the total angular momentum (docs/outputs.md).
 #include <string>
 #include <string_view>
 
@@ -16,7 +20,7 @@ class TimeseriesRecorder final : public RunObserver<D> {
  public:
   static constexpr double kRowDrop = 0.005;
 
-  explicit TimeseriesRecorder(double interval) : interval_(interval) {}
+  explicit TimeseriesRecorder(double interval, bool rotating = false) : interval_(interval), rotating_(rotating) {}
 
   void on_start(const State<D>& s) override;
   void before_event(const State<D>& s, double t) override;
@@ -32,14 +36,16 @@ class TimeseriesRecorder final : public RunObserver<D> {
 
  private:
   void row(const State<D>& s, double t);
+  void rotation_columns(const State<D>& s, double t);
   void schedule_drop(int clusters);
 
   double interval_;
+  bool rotating_;
   double next_sample_ = 0.0;
   int next_drop_ = 0;
   double last_row_time_ = -1.0;
   std::int64_t last_row_events_ = -1;
-  std::int64_t events_ = 0, collisions_ = 0;
+  std::int64_t events_ = 0, collisions_ = 0, first_time_collisions_ = 0;
   std::string csv_;
   bool resumed_ = false;
 };

@@ -19,17 +19,23 @@ namespace fs = std::filesystem;
 template <int D>
 std::string analyze_in_dimension(const Config& config, const std::string& state_file, const std::string& out_dir) {
   const Box<D> box{resolved_box_length(config), config.system.boundary};
-  const AggregateAnalysis<D> analysis = analyze_aggregates(box, read_state_in_box<D>(state_file, config));
+  const SphereTable<D> spheres = read_state_in_box<D>(state_file, config);
   prepare_output_dir(out_dir);
-  const std::map<std::string, std::string> files = analysis_files(analysis, state_file);
-  for (const auto& [name, content] : files)
-    if (name != "analysis.json") write_file_atomically(out_dir, name, content);
-  // analysis.json last: when it exists, the tables it lists are complete.
-  write_file_atomically(out_dir, "analysis.json", files.at("analysis.json"));
+  write_analysis(box, spheres, state_file, out_dir);
   return out_dir;
 }
 
 }  // namespace
+
+template <int D>
+void write_analysis(const Box<D>& box, const SphereTable<D>& spheres, const std::string& state_file,
+                    const std::string& out_dir) {
+  const std::map<std::string, std::string> files = analysis_files(analyze_aggregates(box, spheres), state_file);
+  for (const auto& [name, content] : files)
+    if (name != "analysis.json") write_file_atomically(out_dir, name, content);
+  // analysis.json last: when it exists, the tables it lists are complete.
+  write_file_atomically(out_dir, "analysis.json", files.at("analysis.json"));
+}
 
 std::string analyze_run(const AnalyzeRequest& r) {
   if (r.run_dir.empty() && (r.state_file.empty() || r.config_file.empty()))
@@ -50,5 +56,8 @@ std::string analyze_run(const AnalyzeRequest& r) {
   if (config.system.dimension == 2) return analyze_in_dimension<2>(config, state_file, out_dir.string());
   return analyze_in_dimension<3>(config, state_file, out_dir.string());
 }
+
+template void write_analysis<2>(const Box<2>&, const SphereTable<2>&, const std::string&, const std::string&);
+template void write_analysis<3>(const Box<3>&, const SphereTable<3>&, const std::string&, const std::string&);
 
 }  // namespace ballagg

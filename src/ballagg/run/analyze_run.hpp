@@ -3,6 +3,9 @@
 // to the analysis files (io/analysis_files.hpp).
 #include <string>
 
+#include "ballagg/io/state_csv.hpp"
+#include "ballagg/spatial/box.hpp"
+
 namespace ballagg {
 
 struct AnalyzeRequest {
@@ -15,5 +18,16 @@ struct AnalyzeRequest {
 // Throws InputError (one line: the file and what is wrong) before writing anything.
 // Returns the directory the files were written to.
 std::string analyze_run(const AnalyzeRequest& request);
+
+// The analysis files of the spheres of one state (read from `state_file`, which
+// analysis.json records) written into the existing directory `out_dir`, analysis.json
+// last. `ballagg analyze` and the end of a rigid-body run share it, so both give the same
+// files.
+template <int D>
+void write_analysis(const Box<D>& box, const SphereTable<D>& spheres, const std::string& state_file,
+                    const std::string& out_dir);
+
+extern template void write_analysis<2>(const Box<2>&, const SphereTable<2>&, const std::string&, const std::string&);
+extern template void write_analysis<3>(const Box<3>&, const SphereTable<3>&, const std::string&, const std::string&);
 
 }  // namespace ballagg

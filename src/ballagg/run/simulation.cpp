@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,7 +12,10 @@
 
 #include "ballagg/analysis/overlap.hpp"
 #include "ballagg/core/state_codec.hpp"
+#include "ballagg/collision/contact_time.hpp"
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
+#include "ballagg/engines/rigid_body/rigid_bodies.hpp"
+#include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
 #include "ballagg/engines/time_stepping/time_stepping_engine.hpp"
 #include "ballagg/initial/initial_state.hpp"
 #include "ballagg/io/byte_stream.hpp"
@@ -21,6 +25,7 @@
 #include "ballagg/io/timeseries.hpp"
 #include "ballagg/io/xyz.hpp"
 #include "ballagg/run/checkpointer.hpp"
+#include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/progress.hpp"
 #include "ballagg/run/snapshots.hpp"
 #include "ballagg/version.hpp"
@@ -33,11 +38,16 @@ Config resolve_defaults(Config c, const State<D>& s) {
   double mean_square_speed = 0.0;
   for (int i = 0; i < s.n_spheres(); ++i) mean_square_speed += s.velocity(i).squaredNorm();
   mean_square_speed /= s.n_spheres();
+  if (!c.engine.skin && c.engine.kind == EngineKind::rigid_body) c.engine.skin = rigid_body_skin(s);
   if (!c.engine.skin && c.engine.kind != EngineKind::ts) c.engine.skin = default_skin(s);
   if (!c.ts.delta_w) c.ts.delta_w = 4.0 * mean_radius;
-  if (!c.collision.tc_time && c.collision.outcome == CollisionOutcome::bounce) {
+  if (!c.collision.tc_time && c.collision.outcome != CollisionOutcome::stick) {
     const double rms = std::sqrt(mean_square_speed);
     c.collision.tc_time = rms > 0.0 ? kDefaultTcFraction * 2.0 * mean_radius / rms : 0.0;
+  }
+  if (!c.collision.energy_threshold && c.collision.outcome == CollisionOutcome::energy_threshold) {
+    // Richardson §3: the initial mean kinetic energy per body.
+    c.collision.energy_threshold = total_kinetic_energy(s) / s.n_clusters();
   }
   return c;
 }
@@ -47,6 +57,24 @@ std::unique_ptr<Engine<D>> make_engine(const Config& c) {
   const CollisionSettings law{c.collision.outcome, c.collision.restitution, c.collision.tc_time.value_or(0.0)};
   if (c.engine.kind == EngineKind::ed_naive) return make_naive_event_driven_engine<D>(law);
   if (c.engine.kind == EngineKind::ts) return make_time_stepping_engine<D>(c.ts);
+  if (c.engine.kind == EngineKind::rigid_body) {
+    const CollisionConfig& k = c.collision;
+    RigidBodySettings r;
+    r.outcome = k.outcome;
+    r.coagulation = k.coagulation;
+    r.merged_radius = k.merged_radius;
+    r.merged_speed = k.constant_speed ? c.initial.speed : -1.0;
+    r.restitution_law = k.restitution_law;
+    r.restitution = k.restitution;
+    r.velocity_unit = k.velocity_unit;
+    r.mu_t = k.mu_t;
+    r.mu_p = k.mu_p;
+    r.energy_threshold = k.energy_threshold.value_or(kNever);
+    r.fragmentation_energy = k.fragmentation_energy.value_or(kNever);
+    r.tc_time = k.tc_time.value_or(0.0);
+    r.skin = c.engine.skin.value_or(0.0);
+    return make_rigid_body_engine<D>(r);
+  }
   return make_event_driven_engine<D>({law, c.engine.skin.value_or(0.0)});
 }
 
@@ -55,6 +83,7 @@ StopCriteria stop_criteria(const Config& c) {
   s.clusters = static_cast<int>(std::min<std::int64_t>(c.stop.clusters, std::numeric_limits<int>::max()));
   s.time = c.stop.time;
   s.wall_seconds = c.stop.wall_seconds;
+  s.aggregated_fraction = c.stop.aggregated_fraction.value_or(kNever);
   return s;
 }
 
@@ -78,6 +107,11 @@ class ObserverList final : public RunObserver<D> {
   void on_checkpoint(const State<D>& s, const EngineCounters& c, const std::string& engine_state) override {
     for (auto* o : list_) o->on_checkpoint(s, c, engine_state);
   }
+  double next_position_read() const override {
+    double t = kNever;
+    for (auto* o : list_) t = std::min(t, o->next_position_read());
+    return t;
+  }
 
  private:
   std::vector<RunObserver<D>*> list_;
@@ -90,14 +124,37 @@ nlohmann::json vector_json(const Vec<D>& v) {
   return a;
 }
 
+// Spin angular momentum plus orbital angular momentum about the box centre (rigid bodies).
+template <int D>
+Spin<D> angular_momentum(const State<D>& s) {
+  Spin<D> l = Spin<D>::Zero();
+  const Vec<D> centre = Vec<D>::Constant(0.5 * s.box.length);
+  for (int c : s.alive_clusters()) {
+    const Cluster<D>& k = s.clusters[c];
+    l += k.mass * cross(Vec<D>(s.origin(c, s.time) - centre), k.velocity);
+    if (!s.spin.empty()) l += s.spin[c].angular_momentum;
+  }
+  return l;
+}
+
+template <int D>
+double rotational_energy(const State<D>& s) {
+  double e = 0.0;
+  for (int c : s.alive_clusters())
+    if (!s.spin.empty()) e += s.spin[c].energy();
+  return e;
+}
+
 template <int D>
 struct Totals {
   Vec<D> momentum;
   double kinetic_energy;
   std::int64_t pinnings;
   Vec<D> wall_impulse;
+  double rotational_energy;
   explicit Totals(const State<D>& s)
-      : momentum(s.momentum()), kinetic_energy(s.kinetic_energy()), pinnings(s.pinnings()), wall_impulse(s.wall_impulse()) {}
+      : momentum(s.momentum()), kinetic_energy(s.kinetic_energy()), pinnings(s.pinnings()),
+        wall_impulse(s.wall_impulse()), rotational_energy(total_kinetic_energy(s) - s.kinetic_energy()) {}
   // Checkpoints.
   std::string encode() const {
     ByteWriter w;
@@ -105,6 +162,7 @@ struct Totals {
     w.put(kinetic_energy);
     w.put(pinnings);
     w.put(wall_impulse);
+    w.put(rotational_energy);
     return w.take();
   }
   explicit Totals(std::string_view saved) {
@@ -113,6 +171,7 @@ struct Totals {
     kinetic_energy = r.get<double>("kinetic energy");
     pinnings = r.get<std::int64_t>("pinnings");
     wall_impulse = r.get<Vec<D>>("wall impulse");
+    rotational_energy = r.get<double>("rotational energy");
     r.expect_end();
   }
 };
@@ -151,6 +210,14 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
     j["pair_predictions"] = n.pair_predictions;
     j["event_queue_peak"] = n.queue_peak;
   }
+  const bool rigid = c.engine.kind == EngineKind::rigid_body;
+  if (rigid) {
+    j["first_time_collisions"] = n.first_time_collisions;
+    j["fragmentations"] = n.fragmentations;
+    j["contact_searches"] = n.contact_searches;
+    j["advancement_steps"] = n.advancement_steps;
+    j["pose_evaluations"] = n.pose_evaluations;
+  }
   j["wall_pinnings"] = s.pinnings() - initial.pinnings;
   j["wall_seconds"] = r.wall_seconds;
   j["events_per_second"] = r.wall_seconds > 0 ? r.counters.events / r.wall_seconds : 0.0;
@@ -160,6 +227,12 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   j["wall_impulse"] = vector_json<D>(s.wall_impulse() - initial.wall_impulse);  // momentum_final - momentum_initial
   j["kinetic_energy_initial"] = initial.kinetic_energy;
   j["kinetic_energy_final"] = s.kinetic_energy();
+  if (rigid) {
+    // kinetic_energy_* above are translational; rotational energy (eq. 2) apart.
+    j["rotational_energy_initial"] = initial.rotational_energy;
+    j["rotational_energy_final"] = rotational_energy(s);
+    j["angular_momentum_final"] = vector_json<kSpinDim<D>>(Vec<kSpinDim<D>>(angular_momentum(s)));
+  }
   const std::optional<double> overlap = max_relative_overlap(s);
   j["max_overlap"] = overlap ? nlohmann::ordered_json(*overlap) : nlohmann::ordered_json(nullptr);
   j["seed"] = c.initial.seed;
@@ -187,10 +260,11 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
   }
 
   const std::string dir = options.out_dir.empty() ? default_output_dir() : options.out_dir;
-  if (!resume) prepare_output_dir(dir);
+  const bool created = !resume && prepare_output_dir(dir);
 
   const Totals<D> initial = resume ? Totals<D>(resume->totals) : Totals<D>(state);
-  TimeseriesRecorder<D> timeseries(config.output.timeseries_interval);
+  const bool rigid = config.engine.kind == EngineKind::rigid_body;
+  TimeseriesRecorder<D> timeseries(config.output.timeseries_interval, rigid);
   if (resume) timeseries.restore(resume->timeseries);
   ProgressReporter<D> progress(stderr, options.progress_on_terminal && isatty(STDERR_FILENO), stop);
   ObserverList<D> observers;
@@ -224,12 +298,29 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
     });
     observers.add(&*checkpointer);
   }
-  RunResult result = engine->run(state, stop, observers);
+  RunResult result;
+  try {
+    result = engine->run(state, stop, observers);
+  } catch (const InputError&) {
+    // Bad input found during the run (coefficients that would create energy): leave
+    // nothing behind, as for input rejected before the run.
+    std::error_code ec;
+    if (created) std::filesystem::remove(dir, ec);
+    throw;
+  }
   result.wall_seconds += earlier_seconds;
 
-  write_file_atomically(dir, "final.csv", state_csv_text(state));
+  const std::string final_csv = state_csv_text(state);
+  write_file_atomically(dir, "final.csv", final_csv);
   if (config.output.xyz) write_file_atomically(dir, "final.xyz", xyz_frame_text(state));
   write_file_atomically(dir, "timeseries.csv", timeseries.csv());
+  if (rigid) {
+    // Richardson's end-of-run statistics: the files of `ballagg analyze`, from final.csv
+    // as that command reads it, so that both give the same bytes.
+    const std::string final_path = (std::filesystem::path(dir) / "final.csv").string();
+    write_analysis(Box<D>{resolved_box_length(config), config.system.boundary},
+                   parse_state_csv<D>(final_csv, final_path), final_path, dir);
+  }
   write_file_atomically(dir, "config.toml", to_toml_text(config));
   write_file_atomically(dir, "summary.json", summary_text(config, engine->name(), initial, state, result));
   std::error_code ec;

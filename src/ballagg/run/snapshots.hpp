@@ -2,8 +2,8 @@
 // Trajectory frames at exact simulated times: the initial state, every `every` of
 // simulated time (t = k * every, k = 1, 2, ...), and the final state. Positions are lazy
 // (State::position is valid at any time up to the next event), so a frame at k * every is
-// written from before_event, between two events (ed) or two steps (ts), without changing
-// the run: a run with snapshots gives the same results as one without. A frame due at the
+// written from before_event, between two events (ed, rigid-body) or two steps (ts), without
+// changing the run: a run with snapshots gives the same results as one without. A frame due at the
 // instant of an event, or of the end of a time step, shows the state after it.
 #include <cstdint>
 #include <memory>
@@ -28,6 +28,8 @@ class SnapshotRecorder final : public RunObserver<D> {
   void before_event(const State<D>& s, double t) override;
   void after_event(const State<D>& s, const EventRecord& e, const EngineCounters& c) override;
   void on_finish(const State<D>& s, const RunResult& r) override;
+  // The rigid-body engine writes rotated sphere offsets only when asked: at each frame.
+  double next_position_read() const override { return next_time(); }
 
   int frames() const { return frames_; }
 

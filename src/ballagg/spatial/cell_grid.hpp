@@ -47,6 +47,9 @@ class CellGrid {
     if (node_[id].cell >= 0) retag_cell(node_[id].cell);
   }
 
+  // Where item id was binned.
+  const Vec<D>& binned(int id) const { return node_[id].position; }
+
   void move(int id, const Vec<D>& p) {
     node_[id].position = p;
     const std::int32_t c = cell_index(p);

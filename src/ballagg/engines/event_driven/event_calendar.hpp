@@ -13,6 +13,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <optional>
 #include <vector>
 
 #include "ballagg/core/small_vector.hpp"
@@ -87,6 +89,20 @@ class EventCalendar {
 
   bool empty() const { return order_.empty(); }
   std::size_t size() const { return stored_; }
+  // The time of the earliest event filed (possibly stale), or +inf.
+  double earliest_time() {
+    return order_.empty() ? std::numeric_limits<double>::infinity() : filed_[order_.top()].front().time;
+  }
+
+  // Pops events until one passes `valid` (stale ones are dropped) and returns it.
+  template <class Valid>
+  std::optional<Event> pop_valid(Valid&& valid) {
+    while (!empty()) {
+      const Event e = pop();
+      if (valid(e)) return e;
+    }
+    return std::nullopt;
+  }
 
   // Removes and returns the earliest event (possibly stale). Requires !empty().
   Event pop() {

@@ -125,11 +125,7 @@ class EventDrivenCore {
   EventLoopState& loop() { return loop_; }
 
   std::optional<Event> next_event() {
-    while (!calendar_.empty()) {
-      const Event e = calendar_.pop();
-      if (valid(e)) return e;
-    }
-    return std::nullopt;
+    return calendar_.pop_valid([&](const Event& e) { return valid(e); });
   }
 
   EventRecord handle(const Event& e) {
@@ -137,7 +133,8 @@ class EventDrivenCore {
       case EventKind::collision: return collide(e.a, e.b, e.time);
       case EventKind::wall: return reflect(e.a, e.b, e.time);
       case EventKind::list_rebuild: return rebuild(e.a, e.time);
-      case EventKind::time_step: break;  // never queued here: time stepping only
+      case EventKind::time_step: break;       // never queued here: time stepping only
+      case EventKind::contact_search: break;  // never queued here: rigid bodies only
     }
     return {};
   }

@@ -16,12 +16,14 @@
 namespace ballagg {
 
 // True when no two clusters can ever meet again: all move with the same velocity in a
-// periodic box (or all are at rest). Walls change velocities, so there only rest counts.
+// periodic box (or all are at rest), and none spins. Walls change velocities, so there
+// only rest counts.
 template <int D>
 bool collisions_impossible(const State<D>& s) {
   const Vec<D>* first = nullptr;
   for (int c : s.alive_clusters()) {
     const Cluster<D>& k = s.clusters[c];
+    if (!s.spin.empty() && k.size() > 1 && s.spin[c].angular_momentum != Spin<D>::Zero()) return false;
     if (!s.box.periodic() && k.velocity != Vec<D>::Zero()) return false;
     if (first == nullptr) first = &k.velocity;
     else if (k.velocity != *first) return false;
@@ -35,8 +37,8 @@ struct EventLoopState {
   std::int64_t last_collision_event = 0;  // events handled when the last collision was
 };
 
-// `Core` also supplies loop() (an EventLoopState) and, for checkpoints, save(): its whole
-// state as bytes, taken between two events.
+// `Core` may also supply stop_reason() (criteria of its own), and, for checkpoints, loop()
+// (an EventLoopState) and save(): its whole state as bytes, taken between two events.
 template <int D, class Core>
 RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunObserver<D>& observer) {
   using clock = std::chrono::steady_clock;
@@ -50,12 +52,20 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
   RunResult result;
   EngineCounters& count = core.counters();
   observer.on_start(s);
-  std::int64_t& last_collision_event = core.loop().last_collision_event;
+  EventLoopState own_loop;  // for a core without checkpoints (no loop() of its own)
+  std::int64_t& last_collision_event = [&]() -> std::int64_t& {
+    if constexpr (requires { core.loop(); }) return core.loop().last_collision_event;
+    else return own_loop.last_collision_event;
+  }();
   while (true) {
     if (s.n_clusters() <= stop.clusters) { result.reason = StopReason::clusters; break; }
+    if constexpr (requires { core.stop_reason(); }) {  // criteria only some engines know
+      if (const std::optional<StopReason> r = core.stop_reason()) { result.reason = *r; break; }
+    }
     if (count.events % kClockEvery == 0) {
       if (elapsed() >= stop.wall_seconds) { result.reason = StopReason::wall_seconds; break; }
-      if (observer.checkpoint_due()) observer.on_checkpoint(s, count, core.save());
+      if constexpr (requires { core.save(); })
+        if (observer.checkpoint_due()) observer.on_checkpoint(s, count, core.save());
     }
     if (count.events - last_collision_event > quiet_limit) {
       if (collisions_impossible(s)) { result.reason = StopReason::no_collision_possible; break; }
