@@ -21,6 +21,7 @@
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/time_stepping/adhesive_links.hpp"
 #include "ballagg/engines/time_stepping/adhesive_set.hpp"
+#include "ballagg/engines/time_stepping/displaced_spheres.hpp"
 #include "ballagg/engines/time_stepping/daha.hpp"
 #include "ballagg/engines/time_stepping/step_bodies.hpp"
 #include "ballagg/spatial/sorted_cell_list.hpp"
@@ -49,7 +50,8 @@ struct ProblemContext {
   const std::vector<Vec<D>>& flight;     // per cluster: how far this step's free flight moved it
   const StepBodies& bodies;              // the clusters of the step joined by its links
   const SortedCellList<D>& cells;        // every sphere, binned at most cell_slack from `positions`
-  double cell_slack;
+  double cell_slack;                     //   except the displaced ones
+  const DisplacedSpheres& displaced;
   const AdhesiveSet& S;
   const AdhesiveLinks& links;
   const TimeSteppingSettings& settings;
@@ -93,29 +95,52 @@ inline constexpr int kSmallClusterSize = 32;
 // (bodies move in inverse proportion to their mass) and is not queried, so that the hit
 // does not cost the giant's size; its pairs with the other members are found from their
 // side, and any contact it makes with spheres outside by the next round of (3.1)-(3.2).
+// Which clusters of a group for_each_neighbour_of_group queries.
+template <int D>
+struct QueriedClusters {
+  QueriedClusters(const ProblemContext<D>& ctx, const CollisionGroup& g, int max_size)
+      : s(ctx.state), clusters(clusters_of_group(ctx, g)), largest(clusters.front().first), max_size(max_size) {
+    for (const auto& [c, b] : clusters)
+      if (s.clusters[c].size() > s.clusters[largest].size()) largest = c;
+  }
+  bool operator()(int c) const {
+    const int size = s.clusters[c].size();
+    return size <= max_size && (c != largest || size <= kSmallClusterSize);
+  }
+  // The spheres queried: the cost of the queries.
+  std::size_t spheres() const {
+    std::size_t n = 0;
+    for (const auto& [c, b] : clusters)
+      if ((*this)(c)) n += s.clusters[c].size();
+    return n;
+  }
+  const State<D>& s;
+  std::vector<std::pair<std::int32_t, std::int32_t>> clusters;  // (cluster, body index) of the group
+  int largest;
+  int max_size;
+};
+
 template <int D, class F>
 void for_each_neighbour_of_group(const ProblemContext<D>& ctx, const CollisionGroup& g, double reach, int max_size,
                                  F&& f) {
   const State<D>& s = ctx.state;
-  const auto clusters = clusters_of_group(ctx, g);
-  int largest = clusters.front().first;
-  for (const auto& [c, b] : clusters)
-    if (s.clusters[c].size() > s.clusters[largest].size()) largest = c;
-  auto queried = [&](int c) {
-    const int size = s.clusters[c].size();
-    return size <= max_size && (c != largest || size <= kSmallClusterSize);
-  };
-  for (const auto& [c, b] : clusters) {
+  const QueriedClusters<D> queried(ctx, g, max_size);
+  for (const auto& [c, b] : queried.clusters) {
     if (!queried(c)) continue;
     for (int i : s.clusters[c].members) {
-      // The cell list holds positions up to cell_slack from the current ones.
-      ctx.cells.for_each_within(ctx.positions[i], reach + ctx.cell_slack, [&](int j) {
+      auto visit = [&](int j) {
         const int cj = s.spheres.cluster[j];
         if (cj == c) return;
         const int bj = body_index(ctx, g, j);
         if (bj >= 0 && queried(cj) && j < i) return;
         f(i, j, bj);
+      };
+      // The cell list holds positions up to cell_slack from the current ones, but for the
+      // displaced spheres, visited apart.
+      ctx.cells.for_each_within(ctx.positions[i], reach + ctx.cell_slack, [&](int j) {
+        if (!ctx.displaced.contains(j)) visit(j);
       });
+      for (int j : ctx.displaced.list()) visit(j);
     }
   }
 }

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <optional>
 
 #include "ballagg/core/parallel.hpp"
@@ -66,6 +67,7 @@ class TimeSteppingEngine final : public Engine<D> {
   void advect(State<D>& s, double dt);
   void bin(const State<D>& s);
   void rebin();
+  void rebin_if_cheaper(std::size_t queries);
   const SortedCellList<D>& binned_cells();
   void detect_overlaps(const State<D>& s);
   void resolve(const State<D>& s);
@@ -80,7 +82,7 @@ class TimeSteppingEngine final : public Engine<D> {
   double largest_overlap(const State<D>& s, std::vector<int>& spheres) const;
 
   ProblemContext<D> context(const State<D>& s) const {
-    return {s, positions_, step_shift_, flight_, bodies_, *cells_, cell_slack_, S_, links_, settings_,
+    return {s, positions_, step_shift_, flight_, bodies_, *cells_, cell_slack_, displaced_, S_, links_, settings_,
             length_scale_, delta_w_, mean_mass_, sink_};
   }
   bool rigid() const { return settings_.model == TsModel::rigid; }
@@ -96,7 +98,7 @@ class TimeSteppingEngine final : public Engine<D> {
   std::vector<Vec<D>> flight_;               // per cluster: its displacement by this step's free flight
   std::optional<SortedCellList<D>> cells_;
   double cell_slack_ = 0.0;                  // how far a sphere may move before re-binning
-  bool stale_cells_ = false;                 // some sphere moved farther than that
+  DisplacedSpheres displaced_;               // the spheres that moved farther than that
   bool cells_binned_ = false;                // the cell list holds this step's positions
   AdhesiveSet S_;                            // the adhesive set of a round and its groups (of bodies)
   StepBodies bodies_;                        // the clusters of the step, joined by its links
@@ -187,6 +189,7 @@ void TimeSteppingEngine<D>::prepare(const State<D>& s) {
   moved_since_binning_.assign(n, Vec<D>::Zero());
   cells_.emplace(s.box, (2.0 + kGridMargin) * s.max_radius(), n);
   cell_slack_ = cells_->cell_size() - 2.0 * s.max_radius();
+  displaced_.reset(n);
   near_ = NearPairs<D>(n_cluster_ids, cell_slack_);
   S_ = AdhesiveSet(n_cluster_ids);
   bodies_ = StepBodies(n_cluster_ids);
@@ -258,6 +261,13 @@ void TimeSteppingEngine<D>::bin(const State<D>& s) {
   cells_binned_ = false;
 }
 
+// Rebuilds the cell list when the displaced spheres would cost the coming `queries`
+// neighbour queries more than a rebuild (O(N)).
+template <int D>
+void TimeSteppingEngine<D>::rebin_if_cheaper(std::size_t queries) {
+  if (queries * displaced_.size() > positions_.size()) rebin();
+}
+
 template <int D>
 const SortedCellList<D>& TimeSteppingEngine<D>::binned_cells() {
   if (!cells_binned_) rebin();
@@ -269,7 +279,7 @@ void TimeSteppingEngine<D>::rebin() {
   cells_->build(positions_);
   cells_binned_ = true;
   std::fill(moved_since_binning_.begin(), moved_since_binning_.end(), Vec<D>::Zero());
-  stale_cells_ = false;
+  displaced_.clear();
 }
 
 // Step 2a: S starts as the pairs of spheres of different clusters that overlap or touch
@@ -301,6 +311,7 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
     std::vector<GroupSolution<D>> solutions(groups.size());
     std::size_t work = 0;
     for (const CollisionGroup& g : groups) work += g.pairs.size();
+    rebin_if_cheaper(2 * work);
     // Threads pay off only when there is enough work to share (starting them costs more
     // than solving a few small groups).
     if (!out_of_rounds) {
@@ -314,13 +325,13 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
     // seeing where everything else has gone.
     for (std::size_t k = 0; k < groups.size(); ++k) {
       if (solutions[k].result.converged) continue;
-      if (stale_cells_) rebin();
+      // The retreat queries the neighbours of its clusters (retreat.cpp).
+      rebin_if_cheaper(QueriedClusters<D>(ctx, groups[k], std::numeric_limits<int>::max()).spheres());
       const int iterations = solutions[k].result.iterations;
       solutions[k] = repair(context(s), groups[k]);
       solutions[k].result.iterations += iterations;
       apply(solutions[k], moved);
     }
-    if (stale_cells_) rebin();
     moved_in_step_.insert(moved_in_step_.end(), moved.begin(), moved.end());
     if (out_of_rounds) {
       end_round(s, groups, solutions, {});
@@ -330,6 +341,7 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
     round_contacts_.clear();
     for (const GroupSolution<D>& g : solutions)
       for (const SpherePair& c : g.contacts) round_contacts_.insert(c.i, c.j, 0);
+    rebin_if_cheaper(moved.size());
     if (!end_round(s, groups, solutions, new_overlaps(s, moved))) {
       ++counters_.rounds_exhausted;  // stalled: what is left overlapping waits for the next step
       S_.clear();
@@ -337,6 +349,7 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
     }
   }
   // The largest overlap left around everything this step moved.
+  rebin_if_cheaper(moved_in_step_.size());
   counters_.max_residual_overlap = std::max(counters_.max_residual_overlap, largest_overlap(s, moved_in_step_));
 }
 
@@ -362,7 +375,7 @@ void TimeSteppingEngine<D>::apply(const GroupSolution<D>& g, std::vector<int>& m
     positions_[i] = box.wrap(positions_[i] + g.shift[k]);
     step_shift_[i] += g.shift[k];
     moved_since_binning_[i] += g.shift[k];
-    stale_cells_ = stale_cells_ || moved_since_binning_[i].norm() > cell_slack_;
+    if (moved_since_binning_[i].norm() > cell_slack_) displaced_.add(i);
     moved.push_back(i);
   }
 }
@@ -423,12 +436,16 @@ void TimeSteppingEngine<D>::for_each_contact(const State<D>& s, const std::vecto
   for (std::int64_t k = 0; k < n; ++k) {
     const int i = spheres[k];
     const int ci = s.spheres.cluster[i];
-    cells_->for_each_near(positions_[i], [&](int j) {
+    auto visit = [&](int j) {
       if (j == i || (same_cluster_fixed && s.spheres.cluster[j] == ci)) return;
       const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
       const double d = s.box.separation(positions_[i], positions_[j]).norm();
       if (d <= sigma) f(i, j, d, sigma);
+    };
+    cells_->for_each_near(positions_[i], [&](int j) {
+      if (!displaced_.contains(j)) visit(j);
     });
+    for (int j : displaced_.list()) visit(j);
   }
 }
 
