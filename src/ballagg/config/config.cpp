@@ -613,14 +613,15 @@ std::string to_json_text(const Config& c) {
   for (const auto& [section, keys] : entries(c)) {
     nlohmann::ordered_json& js = j[section];
     js = nlohmann::ordered_json::object();
-    for (const auto& [key, value] : keys) {
+    for (const auto& entry : keys) {
+      const auto& key = entry.first;  // not a structured binding: clang 14 cannot capture one in a lambda
       std::visit([&](const auto& v) {
         using T = std::decay_t<decltype(v)>;
         if constexpr (std::is_same_v<T, double>) {
           if (std::isinf(v)) { js[key] = nullptr; return; }  // JSON has no infinity
         }
         js[key] = v;
-      }, value);
+      }, entry.second);
     }
   }
   return j.dump(2);
