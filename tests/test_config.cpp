@@ -778,7 +778,7 @@ TEST(Config, ToJsonTextHasEveryKey) {
     EXPECT_CONTAINS(j, key);
 }
 
-// Found by tests/fuzz/fuzz_config: toml++ recursed over a dotted key 100000 parts deep
+// Found while writing tests/fuzz/fuzz_config: toml++ recursed over a dotted key 100000 parts deep
 // until the stack overflowed (a segmentation fault instead of an error).
 TEST(Config, AbsurdlyDeepDottedKeyIsAnErrorNotAStackOverflow) {
   std::string deep;

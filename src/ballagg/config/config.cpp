@@ -441,16 +441,14 @@ std::string parse_error_message(const toml::parse_error& e, const std::string& s
 
 }  // namespace
 
-namespace {
-
 // toml++ builds a dotted key a.b.c... as nested tables and recurses over them: a key tens
-// of thousands of parts deep overflows the stack (found by tests/fuzz/fuzz_config). A
+// of thousands of parts deep overflows the stack (found while writing the fuzz targets). A
 // ballagg key is SECTION.KEY, so a text with more than kMaxKeyDots dots that can be part of
 // a key (not between two digits, as in 0.25) is refused before toml++ reads it. Real
 // configurations have a few dozen (comments and paths included).
-constexpr std::size_t kMaxKeyDots = 4096;
+static constexpr std::size_t kMaxKeyDots = 4096;
 
-void refuse_deeply_dotted_text(std::string_view text, const std::string& source_name) {
+void refuse_deeply_dotted_toml(std::string_view text, const std::string& source_name) {
   std::size_t dots = 0;
   auto is_digit = [](char c) { return c >= '0' && c <= '9'; };
   for (std::size_t i = 0; i < text.size(); ++i) {
@@ -464,10 +462,8 @@ void refuse_deeply_dotted_text(std::string_view text, const std::string& source_
   }
 }
 
-}  // namespace
-
 Config parse_config_text(std::string_view text, const std::string& source_name, const std::vector<std::string>& overrides) {
-  refuse_deeply_dotted_text(text, source_name);
+  refuse_deeply_dotted_toml(text, source_name);
   toml::table root;
   try {
     root = toml::parse(text, source_name);
