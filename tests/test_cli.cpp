@@ -495,7 +495,7 @@ TEST_F(Cli, BoxSmallerThanASphereIsBadInput) {
                    path("out"), {"diameter 0.4", "enlarge the box"});
   expect_bad_input({"run", "--set", "system.n=1", "--set", "system.box_length=0.3", "--set", "system.boundary=periodic",
                     "--out", path("out").string()},
-                   path("out"), {"system.box_length = 0.3", "4 times the largest radius"});
+                   path("out"), {"spacing 0.3", "diameter 0.4", "enlarge the box"});
 }
 
 TEST_F(Cli, EmptyTruncatedAndDuplicateColumnCsvNameTheFileLine) {
