@@ -2,6 +2,7 @@
 // final state back in, determinism, and the bad-input contract (exit status 2, one line on
 // stderr naming the key or the file line, and no output directory created).
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -468,4 +469,81 @@ TEST_F(Cli, BadInputCreatesNoParentDirectoriesEither) {
   const fs::path out = path("deep") / "er" / "out";
   expect_bad_input({"run", "--set", "system.n=-3", "--out", out.string()}, out, {"system.n"});
   EXPECT_FALSE(fs::exists(path("deep")));
+}
+
+// ---------------------------------------------------------------------------------------
+// The bad-input catalogue of issue 8 (docs/hardening.md): what a new user tries. The
+// wrong types, NaN and negative values of every key are in test_config.cpp; here what is
+// left, through the binary.
+
+TEST_F(Cli, NoSpheresIsBadInputNamingTheAllowedRange) {
+  expect_bad_input({"run", "--set", "system.n=0", "--out", path("out").string()}, path("out"),
+                   {"system.n", "from 1"});
+}
+
+TEST_F(Cli, OneSphereIsAlreadyASingleCluster) {
+  const Outcome o = tiny_run(path("out"), {"--set", "system.n=1"});
+  ASSERT_EQ(o.status, 0) << o.err;
+  const nlohmann::json s = read_json(path("out") / "summary.json");
+  EXPECT_EQ(s["n_clusters"], 1) << s.dump();
+  EXPECT_EQ(s["collisions"], 0) << s.dump();
+}
+
+TEST_F(Cli, BoxSmallerThanASphereIsBadInput) {
+  // Diameter 0.4 in a box of 0.3: neither start fits.
+  expect_bad_input({"run", "--set", "system.n=1", "--set", "system.box_length=0.3", "--out", path("out").string()},
+                   path("out"), {"diameter 0.4", "enlarge the box"});
+  expect_bad_input({"run", "--set", "system.n=1", "--set", "system.box_length=0.3", "--set", "system.boundary=periodic",
+                    "--out", path("out").string()},
+                   path("out"), {"spacing 0.3", "diameter 0.4", "enlarge the box"});
+}
+
+TEST_F(Cli, EmptyTruncatedAndDuplicateColumnCsvNameTheFileLine) {
+  auto from_file = [&](const std::string& name) {
+    return std::vector<std::string>{"run", "--set", "initial.positions=\"file\"", "--set",
+                                    "initial.file=\"" + path(name).string() + "\"", "--set", "system.box_length=10",
+                                    "--out", path("out").string()};
+  };
+  write(path("empty.csv"), "");
+  expect_bad_input(from_file("empty.csv"), path("out"), {path("empty.csv").string(), "empty file"});
+  // A file cut short by a full disk or a killed writer: its last row ends mid-number.
+  write(path("cut.csv"), "x,y,vx,vy,radius,mass\n1,1,0,0,0.2,1\n3,3,0,0,0.");
+  expect_bad_input(from_file("cut.csv"), path("out"), {path("cut.csv").string() + ":3", "5 fields, but the header has 6"});
+  write(path("cut2.csv"), "x,y,vx,vy,radius,mass\n1,1,0,0,0.2,1\n3,3,0,0,0.2,");
+  expect_bad_input(from_file("cut2.csv"), path("out"), {path("cut2.csv").string() + ":3", "mass", "not a number"});
+  write(path("twice.csv"), "x,y,vx,vy,radius,mass,x\n1,1,0,0,0.2,1,1\n");
+  expect_bad_input(from_file("twice.csv"), path("out"), {path("twice.csv").string() + ":1", "'x' appears twice"});
+}
+
+TEST_F(Cli, OutputDirectoryThatCannotBeWrittenIsBadInput) {
+  // Nothing, root included, can create a directory in /proc.
+  const fs::path proc_out = "/proc/ballagg-hardening-test/out";
+  expect_bad_input({"run", "--set", "system.n=16", "--out", proc_out.string()}, proc_out,
+                   {"--out " + proc_out.string(), "cannot create the output directory"});
+  if (::geteuid() == 0) return;  // permission bits do not stop root
+  fs::create_directory(path("locked"));
+  fs::permissions(path("locked"), fs::perms::owner_read | fs::perms::owner_exec);
+  expect_bad_input({"run", "--set", "system.n=16", "--out", path("locked").string()}, path("locked") / "none",
+                   {"--out " + path("locked").string(), "cannot write"});
+  fs::permissions(path("locked"), fs::perms::owner_all);
+}
+
+TEST_F(Cli, FullDiskIsOneLineNamingTheFileAndLeavesNoPartialFile) {
+  // A file-size limit of 16 KiB with SIGXFSZ ignored: a write beyond it fails with EFBIG, as
+  // on a full disk (ENOSPC). final.csv of 400 discs is about 40 KB.
+  const std::string limited = "bash -c 'trap \"\" XFSZ; ulimit -f 16; exec \"$0\" \"$@\"'";
+  const Outcome o = ballagg::testing::run_ballagg(
+      {"run", "--quiet", "--set", "system.n=400", "--out", path("out").string()}, dir_, limited);
+  // A full disk is not the user's input: "failed", status 1 (main.cpp), not 2.
+  EXPECT_EQ(o.status, 1) << o.err;
+  EXPECT_EQ(line_count(o.err), 1) << o.err;
+  EXPECT_EQ(o.err.rfind("ballagg: failed: ", 0), 0u) << o.err;
+  EXPECT_CONTAINS(o.err, (path("out") / "final.csv").string());
+  // Neither a half-written result nor its temporary file is left behind.
+  if (fs::exists(path("out")))
+    for (const fs::directory_entry& e : fs::directory_iterator(path("out"))) {
+      const std::string name = e.path().filename().string();
+      EXPECT_TRUE(name != "final.csv" && name.find(".tmp") == std::string::npos) << "left behind: " << name;
+      if (name == "timeseries.csv" || name == "config.toml") EXPECT_GT(fs::file_size(e.path()), 0u) << name;
+    }
 }

@@ -777,3 +777,16 @@ TEST(Config, ToJsonTextHasEveryKey) {
                           "\"time\"", "\"wall_seconds\"", "\"timeseries_interval\"", "\"xyz\""})
     EXPECT_CONTAINS(j, key);
 }
+
+// Found while writing tests/fuzz/fuzz_config: toml++ recursed over a dotted key 100000 parts deep
+// until the stack overflowed (a segmentation fault instead of an error).
+TEST(Config, AbsurdlyDeepDottedKeyIsAnErrorNotAStackOverflow) {
+  std::string deep;
+  for (int k = 0; k < 100000; ++k) deep += "a.";
+  const std::string m = error_of(deep + "b = 1\n");
+  EXPECT_CONTAINS(m, "run.toml:1:");
+  EXPECT_CONTAINS(m, "dotted key parts");
+  EXPECT_CONTAINS(error_of("[system]\nn = 1\n[" + deep + "b]\n"), "run.toml:3:");
+  // Numbers and ordinary keys are far from the limit.
+  EXPECT_NO_THROW(ballagg::parse_config_text("[system]\nradius = 0.25\nvolume_fraction = 0.125\n", "ok.toml"));
+}

@@ -352,3 +352,16 @@ TEST(SweepFile, CommittedSweepFilesAreValid) {
   }
   EXPECT_GE(seen, 2);
 }
+
+// Found while writing the fuzz targets: toml++ recursed over a dotted key 100000 parts
+// deep until the stack overflowed (a segmentation fault instead of an error).
+TEST(SweepSpec, AbsurdlyDeepDottedKeyIsAnErrorNotAStackOverflow) {
+  std::string deep;
+  for (int k = 0; k < 100000; ++k) deep += "a.";
+  try {
+    ballagg::parse_sweep_text(deep + "b = 1\n", "deep.toml");
+    ADD_FAILURE() << "accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("deep.toml:1: more than 4096 dotted key parts"), std::string::npos) << e.what();
+  }
+}

@@ -441,7 +441,29 @@ std::string parse_error_message(const toml::parse_error& e, const std::string& s
 
 }  // namespace
 
+// toml++ builds a dotted key a.b.c... as nested tables and recurses over them: a key tens
+// of thousands of parts deep overflows the stack (found while writing the fuzz targets). A
+// ballagg key is SECTION.KEY, so a text with more than kMaxKeyDots dots that can be part of
+// a key (not between two digits, as in 0.25) is refused before toml++ reads it. Real
+// configurations have a few dozen (comments and paths included).
+static constexpr std::size_t kMaxKeyDots = 4096;
+
+void refuse_deeply_dotted_toml(std::string_view text, const std::string& source_name) {
+  std::size_t dots = 0;
+  auto is_digit = [](char c) { return c >= '0' && c <= '9'; };
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] != '.') continue;
+    if (i > 0 && i + 1 < text.size() && is_digit(text[i - 1]) && is_digit(text[i + 1])) continue;
+    if (++dots > kMaxKeyDots) {
+      const auto line = 1 + std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(i), '\n');
+      throw InputError(fmt::format("{}:{}: more than {} dotted key parts (ballagg keys are SECTION.KEY)",
+                                   source_name, line, kMaxKeyDots));
+    }
+  }
+}
+
 Config parse_config_text(std::string_view text, const std::string& source_name, const std::vector<std::string>& overrides) {
+  refuse_deeply_dotted_toml(text, source_name);
   toml::table root;
   try {
     root = toml::parse(text, source_name);
@@ -613,14 +635,15 @@ std::string to_json_text(const Config& c) {
   for (const auto& [section, keys] : entries(c)) {
     nlohmann::ordered_json& js = j[section];
     js = nlohmann::ordered_json::object();
-    for (const auto& [key, value] : keys) {
+    for (const auto& entry : keys) {
+      const auto& key = entry.first;  // not a structured binding: clang 14 cannot capture one in a lambda
       std::visit([&](const auto& v) {
         using T = std::decay_t<decltype(v)>;
         if constexpr (std::is_same_v<T, double>) {
           if (std::isinf(v)) { js[key] = nullptr; return; }  // JSON has no infinity
         }
         js[key] = v;
-      }, value);
+      }, entry.second);
     }
   }
   return j.dump(2);

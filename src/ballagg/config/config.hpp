@@ -104,6 +104,11 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
 Config parse_config_text(std::string_view text, const std::string& source_name,
                          const std::vector<std::string>& overrides = {});
 
+// Throws InputError for TOML text with more dotted key parts than any ballagg file needs
+// (toml++ would overflow its stack on a key tens of thousands of parts deep). Called
+// before every toml::parse of a user's file.
+void refuse_deeply_dotted_toml(std::string_view text, const std::string& source_name);
+
 // The box length: given, or from the volume fraction (2D: L = sqrt(N pi R^2 / Vf),
 // 3D: L = cbrt(N 4/3 pi R^3 / Vf)).
 double resolved_box_length(const Config& c);

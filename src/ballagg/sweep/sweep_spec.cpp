@@ -92,6 +92,7 @@ SweepSpec parse_sweep_text(const std::string& text, const std::string& source) {
   spec.text = text;
   toml::table root;
   try {
+    refuse_deeply_dotted_toml(text, source);
     root = toml::parse(text, source);
   } catch (const toml::parse_error& e) {
     r.fail(static_cast<int>(e.source().begin.line), fmt::format("invalid TOML: {}", e.description()));
