@@ -678,6 +678,7 @@ class RigidBodyCore {
     if (impact.approaching) {
       fold_drift(c, t);
       bodies_.apply_impulse(s_, c, impact.impulse, lever, t);
+      s_.add_wall_impulse(impact.impulse);  // the momentum budget (summary.json wall_impulse)
       forget_pose(c);
       ++count_.wall_bounces;
     }
