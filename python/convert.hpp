@@ -11,6 +11,7 @@
 
 #include "ballagg/analysis/linear_fit.hpp"
 #include "ballagg/config/config.hpp"
+#include "ballagg/core/spin.hpp"
 #include "ballagg/core/vec.hpp"
 #include "ballagg/spatial/box.hpp"
 
@@ -46,6 +47,21 @@ py::array_t<double> from_points(const std::vector<Vec<D>>& v) {
   for (std::size_t i = 0; i < v.size(); ++i)
     for (int k = 0; k < D; ++k) p[i * D + k] = v[i][k];
   return a;
+}
+
+// Angular velocities, one per sphere: (n, 3) in 3D, (n,) in 2D (a scalar spin about the
+// normal of the plane).
+template <int D>
+py::array_t<double> from_spins(const std::vector<Spin<D>>& w) {
+  if constexpr (D == 3) {
+    return from_points<3>(w);
+  } else {
+    std::vector<double> z(w.size());
+    for (std::size_t i = 0; i < w.size(); ++i) z[i] = w[i][0];
+    py::array_t<double> a(static_cast<py::ssize_t>(z.size()));
+    std::copy(z.begin(), z.end(), a.mutable_data());
+    return a;
+  }
 }
 
 template <int D>

@@ -46,8 +46,10 @@ template <int D>
 void load_state(LoadedRun& r) {
   Frame<D> f;
   Particles<D> p;
-  read_final_state<D>(r.run, f, p);
+  std::vector<Spin<D>> spins;
+  read_final_state<D>(r.run, f, p, &spins);
   r.final_state = frame_dict<D>(f, p);
+  if (!spins.empty()) r.final_state["angular_velocities"] = from_spins<D>(spins);  // rigid-body runs
   r.analyze = [f, p] { return aggregate_analysis<D>(p.box, table_of<D>(f, p)); };
   const std::string h5md = r.run.path("trajectory.h5md");
   std::error_code ec;

@@ -2,6 +2,7 @@
 // callback every k events (time steps for ts), the state read as numpy arrays; and
 // ballagg.run / resume / verify, the command line's run, run --resume and verify.
 #include <filesystem>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -39,6 +40,13 @@ class PythonObserver final : public RunObserver<D> {
     if (PyErr_CheckSignals() != 0) throw py::error_already_set();
   }
   const EngineCounters& last() const { return last_; }
+  // The rigid-body engine writes rotated sphere positions into the state only for readers
+  // that ask (RunObserver::next_position_read): the callback may read them after the event
+  // it is called for.
+  double next_position_read() const override {
+    const bool calls_next = !callback_.is_none() && (calls_ + 1) % every_ == 0;
+    return calls_next ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
+  }
 
  private:
   py::object callback_;
@@ -127,6 +135,19 @@ void bind_simulation_in(py::module_& m, const char* name) {
         return from_points<D>(x);
       }, "(n, D) centres with every cluster in one piece across periodic faces")
       .def_property_readonly("velocities", [](const S& s) { return from_points<D>(s.frame().velocity); })
+      .def_property_readonly("angular_velocities", [](const S& s) -> py::object {
+        const State<D>& st = s.state();
+        if (st.spin.empty()) return py::none();
+        std::vector<Spin<D>> w(st.n_spheres());
+        for (int i = 0; i < st.n_spheres(); ++i) w[i] = st.spin[st.spheres.cluster[i]].angular_velocity;
+        return from_spins<D>(w);
+      }, "Per sphere: its body's angular velocity, (n, 3) in 3D, (n,) in 2D (rigid-body engine; None otherwise)")
+      .def_property_readonly("rotational_energy", [](const S& s) {
+        double e = 0.0;
+        if (!s.state().spin.empty())
+          for (int c : s.state().alive_clusters()) e += s.state().spin[c].energy();
+        return e;
+      }, "Sum of 1/2 omega . h over the bodies (Richardson eq. 2; 0 unless the engine is rigid-body)")
       .def_property_readonly("radii", [](const S& s) { return from_vector(s.state().spheres.radius); })
       .def_property_readonly("masses", [](const S& s) { return from_vector(s.state().spheres.mass); })
       .def_property_readonly("cluster_ids", [](const S& s) {

@@ -132,6 +132,93 @@ TEST_F(Verify, CatchesMomentumNotAccountedFor) {
   expect_violation(dir, "momentum budget: final - initial - wall impulse");
 }
 
+// ---- rigid bodies (rigid-body engine): spins, rotational energy, angular momentum ----
+
+const std::vector<std::string> kRigid{"engine.kind=\"rigid-body\"", "initial.velocities=\"gaussian\""};
+std::vector<std::string> with(std::vector<std::string> a, const std::vector<std::string>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+// Rotating aggregates: a 3D gas of aggregates with walls stuck together to 40 bodies; then
+// the same bodies, spinning, as the initial state of a run of elastic, frictionless
+// bounces (eps_n = 1, mu = 0), whose total kinetic energy must be conserved though the
+// translational part alone is not.
+class VerifyRigid : public Verify {
+ protected:
+  std::string aggregates() {
+    return run("aggregates", with(kRigid, {"system.dimension=3", "system.n=300", "system.volume_fraction=0.1", "stop.clusters=40"}));
+  }
+  std::string elastic() {
+    const std::string from = aggregates();
+    const auto box = nlohmann::json::parse(slurp(from + "/summary.json"))["box_length"].get<double>();
+    return run("elastic", {"engine.kind=\"rigid-body\"", "system.dimension=3", fmt::format("system.box_length={}", box),
+                           "initial.positions=\"file\"", fmt::format("initial.file=\"{}/final.csv\"", from),
+                           "collision.outcome=\"bounce\"", "stop.time=3"});
+  }
+  // Multiplies every spin of final.csv (3D: columns wx, wy, wz) by f, and the summary's
+  // rotational energy by f^2: the files agree, only a budget can tell.
+  void scale_spins(const std::string& dir, double f) {
+    auto rows = rows_of(dir + "/final.csv");
+    for (std::size_t k = 1; k < rows.size(); ++k)
+      for (int a = 9; a < 12; ++a) rows[k][a] = fmt::format("{}", f * std::stod(rows[k][a]));
+    write_rows(dir + "/final.csv", rows);
+    nlohmann::ordered_json summary = nlohmann::ordered_json::parse(slurp(dir + "/summary.json"));
+    summary["rotational_energy_final"] = f * f * summary["rotational_energy_final"].get<double>();
+    testing::write(dir + "/summary.json", summary.dump(2));
+  }
+};
+
+TEST_F(VerifyRigid, PassesOnRigidBodyRuns) {
+  expect_verified(run("walls2d", with(kRigid, {"system.n=400", "stop.clusters=60"})));
+  expect_verified(run("model-v", with(kRigid, {"system.dimension=3", "system.n=1000", "system.box_length=10",
+                                              "system.radius=0.033", "system.boundary=\"periodic\"", "initial.speed=10",
+                                              "collision.outcome=\"energy-threshold\"", "collision.restitution_law=\"bridges\"",
+                                              "collision.velocity_unit=0.01", "stop.time=4"})));
+  expect_verified(run("model-i", {"engine.kind=\"rigid-body\"", "system.dimension=3", "system.n=500", "system.box_length=10",
+                                  "system.radius=0.1", "system.boundary=\"periodic\"", "collision.coagulation=\"sphere\"",
+                                  "collision.merged_radius=\"fixed\"", "collision.constant_speed=true", "stop.time=2"}));
+  const std::string dir = elastic();
+  expect_verified(dir);
+  const auto summary = nlohmann::json::parse(slurp(dir + "/summary.json"));
+  EXPECT_GT(summary["bounces"].get<int>(), 20);
+  EXPECT_GT(summary["rotational_energy_initial"].get<double>(), 0.0);  // the bodies spin
+}
+
+TEST_F(VerifyRigid, CatchesASphereSpinningApartFromItsBody) {
+  const std::string dir = aggregates();
+  auto rows = rows_of(dir + "/final.csv");
+  std::map<std::string, int> size;
+  for (std::size_t k = 1; k < rows.size(); ++k) ++size[rows[k][8]];
+  for (std::size_t k = 1; k < rows.size(); ++k)
+    if (size[rows[k][8]] > 1) {
+      rows[k][11] = fmt::format("{}", std::stod(rows[k][11]) + 0.1);
+      break;
+    }
+  write_rows(dir + "/final.csv", rows);
+  expect_violation(dir, "rigid clusters: 1 cluster(s) whose spheres move with different velocities or spins");
+}
+
+TEST_F(VerifyRigid, CatchesRotationalEnergyFromNowhere) {
+  const std::string dir = aggregates();
+  scale_spins(dir, 30.0);
+  expect_violation(dir, "energy budget: kinetic energy (translation and rotation) grew");
+}
+
+TEST_F(VerifyRigid, CatchesElasticBouncesThatLoseEnergy) {
+  const std::string dir = elastic();
+  scale_spins(dir, 0.99);
+  expect_violation(dir, "energy budget: elastic, frictionless bounces");
+}
+
+TEST_F(VerifyRigid, CatchesAWrongAngularMomentum) {
+  const std::string dir = aggregates();
+  nlohmann::ordered_json summary = nlohmann::ordered_json::parse(slurp(dir + "/summary.json"));
+  summary["angular_momentum_final"][2] = summary["angular_momentum_final"][2].get<double>() + 1.0;
+  testing::write(dir + "/summary.json", summary.dump(2));
+  expect_violation(dir, "angular momentum: angular_momentum_final");
+}
+
 TEST_F(Verify, NotARunDirectoryIsBadInput) {
   const Outcome o = ballagg({"verify", (tmp_ / "nothing").string()});
   EXPECT_EQ(o.status, 2);

@@ -138,6 +138,9 @@ class State {
   // Total momentum the walls have given the clusters (reflections and pinnings): with
   // walls, momentum() changes by exactly this (up to round-off); periodic boxes keep 0.
   const Vec<D>& wall_impulse() const { return wall_impulse_; }
+  // Adds the impulse p a wall gave a cluster whose motion the caller changed itself (the
+  // rigid-body engine's wall contacts, which also change the spin).
+  void add_wall_impulse(const Vec<D>& p) { wall_impulse_ += p; }
 
   // ---- rotating rigid bodies (rigid-body engine) ------------------------------------------
   // There a cluster's anchor is its centre of mass, not folded into a periodic box (the

@@ -61,7 +61,11 @@ State<D> StateCodec<D>::decode(std::string_view bytes) {
   if (s.spheres.radius.size() != n || s.spheres.mass.size() != n || s.spheres.cluster.size() != n)
     r.fail("sphere arrays of different lengths");
   const auto m = r.get<std::uint64_t>("cluster count");
-  if (m > n) r.fail("more clusters than spheres");
+  // Not more than spheres, except with sphere coagulation (the rigid-body engine's models
+  // i-ii), which removes spheres and keeps the emptied clusters: bounded by the bytes left
+  // (every cluster takes at least its fixed fields) before anything is allocated.
+  constexpr std::uint64_t kClusterBytes = (4 * D + 5) * sizeof(double);
+  if (m > r.remaining() / kClusterBytes) r.fail("more clusters than the bytes left can hold");
   s.clusters.resize(m);
   std::uint64_t members = 0;
   for (Cluster<D>& k : s.clusters) {

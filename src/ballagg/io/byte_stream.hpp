@@ -21,12 +21,14 @@
 
 namespace ballagg {
 
-// Types stored as their bytes: trivially copyable ones, and Vec<D> (plain arrays of D
-// doubles; Eigen declares copy constructors, so they do not count as trivially copyable).
+// Types stored as their bytes: trivially copyable ones, and fixed-size Eigen matrices of
+// doubles (Vec<D>, rotations, inertia tensors: plain arrays of doubles; Eigen declares
+// copy constructors, so they do not count as trivially copyable).
 template <class T>
 inline constexpr bool kStoredAsBytes = std::is_trivially_copyable_v<T>;
-template <int D>
-inline constexpr bool kStoredAsBytes<Vec<D>> = sizeof(Vec<D>) == D * sizeof(double);
+template <int R, int C, int Options, int MaxR, int MaxC>
+inline constexpr bool kStoredAsBytes<Eigen::Matrix<double, R, C, Options, MaxR, MaxC>> =
+    R > 0 && C > 0 && sizeof(Eigen::Matrix<double, R, C, Options, MaxR, MaxC>) == R * C * sizeof(double);
 
 // A checkpoint that cannot be used: bad input (exit status 2), with one line saying why.
 class CheckpointError : public InputError {
@@ -99,6 +101,8 @@ class ByteReader {
     at_ += n;
     return s;
   }
+
+  std::size_t remaining() const { return bytes_.size() - at_; }
 
   // Throws unless every byte was read (a section longer than its reader expects is not
   // the format this program writes).

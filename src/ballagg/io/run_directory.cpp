@@ -50,10 +50,13 @@ SphereTable<D> read_state_in_box(const std::string& state_file, const Config& co
 }
 
 template <int D>
-void read_final_state(const RunDirectory& run, Frame<D>& frame, Particles<D>& particles) {
+void read_final_state(const RunDirectory& run, Frame<D>& frame, Particles<D>& particles,
+                      std::vector<Spin<D>>* angular_velocity) {
   const Box<D> box{resolved_box_length(run.config), run.config.system.boundary};
+  SphereTable<D> table = read_state_in_box<D>(run.path("final.csv"), run.config);
+  if (angular_velocity) *angular_velocity = table.spin;
   // The state read back is at its own time 0: that is the run's final instant.
-  const State<D> state = assemble_state(box, read_state_in_box<D>(run.path("final.csv"), run.config));
+  const State<D> state = assemble_state(box, std::move(table));
   frame = capture_frame(state, 0.0, 0);
   frame.time = run.final_time;
   particles = particles_of(state);
@@ -61,7 +64,7 @@ void read_final_state(const RunDirectory& run, Frame<D>& frame, Particles<D>& pa
 
 template SphereTable<2> read_state_in_box<2>(const std::string&, const Config&);
 template SphereTable<3> read_state_in_box<3>(const std::string&, const Config&);
-template void read_final_state<2>(const RunDirectory&, Frame<2>&, Particles<2>&);
-template void read_final_state<3>(const RunDirectory&, Frame<3>&, Particles<3>&);
+template void read_final_state<2>(const RunDirectory&, Frame<2>&, Particles<2>&, std::vector<Spin<2>>*);
+template void read_final_state<3>(const RunDirectory&, Frame<3>&, Particles<3>&, std::vector<Spin<3>>*);
 
 }  // namespace ballagg

@@ -24,8 +24,11 @@ RunDirectory open_run_directory(const std::string& dir);
 template <int D>
 SphereTable<D> read_state_in_box(const std::string& state_file, const Config& config);
 
-// The final state as a frame (clusters unwrapped across periodic faces, as in the run).
+// The final state as a frame (clusters unwrapped across periodic faces, as in the run),
+// and, when final.csv has spin columns (rigid-body runs) and angular_velocity is given,
+// each sphere's angular velocity (its body's).
 template <int D>
-void read_final_state(const RunDirectory& run, Frame<D>& frame, Particles<D>& particles);
+void read_final_state(const RunDirectory& run, Frame<D>& frame, Particles<D>& particles,
+                      std::vector<Spin<D>>* angular_velocity = nullptr);
 
 }  // namespace ballagg

@@ -96,7 +96,15 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
   return result;
 }
 
-// An engine made of a Core run by run_event_loop (ed and ed-naive), with checkpoints: the
+// Runs a core: by its own run() if it has one (the rigid-body engine wraps the observer and
+// the loop), else by run_event_loop.
+template <int D, class Core>
+RunResult run_core(Core& core, State<D>& s, const StopCriteria& stop, RunObserver<D>& observer) {
+  if constexpr (requires { core.run(s, stop, observer); }) return core.run(s, stop, observer);
+  else return run_event_loop(core, s, stop, observer);
+}
+
+// An engine made of a Core run by run_core (ed, ed-naive, rigid-body), with checkpoints: the
 // core is built from the state when run() starts, or restored by resume_from() from the
 // bytes its save() gave (Core(State&, const Settings&, std::string_view saved), which
 // throws CheckpointError for bytes that do not fit the state).
@@ -115,10 +123,10 @@ class EventLoopEngine final : public Engine<D> {
   RunResult run(State<D>& s, const StopCriteria& stop, RunObserver<D>& observer) override {
     if (!resumed_) {
       Core core(s, settings_);
-      return run_event_loop(core, s, stop, observer);
+      return run_core(core, s, stop, observer);
     }
     if (resumed_state_ != &s) throw std::logic_error("a resumed engine must run the state it was resumed with");
-    const RunResult r = run_event_loop(*resumed_, s, stop, observer);
+    const RunResult r = run_core(*resumed_, s, stop, observer);
     resumed_.reset();
     return r;
   }

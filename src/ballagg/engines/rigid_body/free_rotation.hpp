@@ -22,6 +22,8 @@
 // 2D: the spin is a scalar and constant between collisions; the orientation is an angle
 // growing linearly.
 #include <cmath>
+#include <cstdint>
+#include <type_traits>
 
 #include <Eigen/Geometry>
 
@@ -73,8 +75,30 @@ class FreeRotation<3> {
   double max_angular_acceleration() const { return max_acceleration_; }
   bool rotating() const { return kind_ != Kind::rest; }
 
+  // Checkpoints (io/byte_stream.hpp writer and reader): every member as it is, so that a
+  // restored rotation gives the saved one's poses bit for bit (building it again from the
+  // orientation at t0 would, but the orientation passed through a quaternion is not kept).
+  template <class Writer>
+  void save(Writer& w) const {
+    fields(*this, [&](const auto& x) { w.put(x); });
+  }
+  template <class Reader>
+  void restore(Reader& r) {
+    fields(*this, [&](auto& x) { x = r.template get<std::remove_cvref_t<decltype(x)>>("free rotation"); });
+    if (kind_ != Kind::rest && kind_ != Kind::uniform && kind_ != Kind::elliptic) r.fail("unknown kind of free rotation");
+  }
+
  private:
-  enum class Kind { rest, uniform, elliptic };
+  enum class Kind : std::uint8_t { rest, uniform, elliptic };
+
+  template <class Self, class F>
+  static void fields(Self& self, F&& f) {
+    f(self.kind_), f(self.moments_), f(self.r0_), f(self.own0_), f(self.h_), f(self.t0_), f(self.energy_);
+    f(self.max_speed_), f(self.max_acceleration_), f(self.omega_), f(self.left_), f(self.right_), f(self.j_);
+    f(self.amplitude_), f(self.h_norm_), f(self.k_), f(self.quarter_period_), f(self.lambda_), f(self.u0_);
+    f(self.n_), f(self.half_period_integral_), f(self.phase_integral_0_), f(self.precession_rate_);
+    f(self.precession_coefficient_), f(self.slow_nutation_);
+  }
 
   void set_up_elliptic(const Vec<3>& sorted_moments, const Vec<3>& m);
 
@@ -103,7 +127,7 @@ class FreeRotation<3> {
   double phase_integral_0_ = 0.0;                // its indefinite value at u0
   double precession_rate_ = 0.0;                 // M / J3
   double precession_coefficient_ = 0.0;          // M (1/J1 - 1/J3) / lambda
-  bool slow_nutation_ = false;
+  std::uint8_t slow_nutation_ = 0;  // bool, as a byte for checkpoints
 
   // The integral of du / (1 + N sn^2 u) from 0 to u, and the elliptic functions at u.
   double phase_integral(double u, double* sn, double* cn, double* dn) const;
@@ -136,6 +160,16 @@ class FreeRotation<2> {
   double max_angular_speed() const { return std::abs(omega_); }
   double max_angular_acceleration() const { return 0.0; }
   bool rotating() const { return omega_ != 0.0; }
+
+  template <class Writer>
+  void save(Writer& w) const {
+    w.put(moment_), w.put(angle0_), w.put(h_), w.put(t0_), w.put(omega_);
+  }
+  template <class Reader>
+  void restore(Reader& r) {
+    moment_ = r.template get<double>("moment"), angle0_ = r.template get<double>("angle");
+    h_ = r.template get<Spin<2>>("spin"), t0_ = r.template get<double>("time"), omega_ = r.template get<double>("spin");
+  }
 
  private:
   double moment_ = 1.0;

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "ballagg/collision/rigid_coagulation.hpp"
+#include "ballagg/io/byte_stream.hpp"
 
 namespace ballagg {
 namespace {
@@ -225,6 +226,33 @@ void RigidBodies<D>::refresh_bounds(const State<D>& s, int c) {
   }
   b.exact_reach = b.reach;
   b.exact_radius = b.radius;
+}
+
+template <int D>
+void RigidBodies<D>::save(ByteWriter& w) const {
+  w.put<std::uint64_t>(body_.size());
+  for (const Body& b : body_) {
+    w.put(b.centre), w.put(b.principal), w.put(b.inertia);
+    b.rotation.save(w);
+    w.put(b.reach), w.put(b.radius), w.put(b.exact_reach), w.put(b.exact_radius);
+  }
+  w.put_vector(coord_);
+}
+
+template <int D>
+void RigidBodies<D>::restore(ByteReader& r, int n_clusters, int n_spheres) {
+  if (r.get<std::uint64_t>("body count") != static_cast<std::uint64_t>(n_clusters)) r.fail("bodies for another number of clusters");
+  body_.assign(n_clusters, Body{});
+  for (Body& b : body_) {
+    b.centre = r.get<Vec<D>>("body centre");
+    b.principal = r.get<Rotation<D>>("principal axes");
+    b.inertia = r.get<InertiaTensor<D>>("inertia tensor");
+    b.rotation.restore(r);
+    b.reach = r.get<double>("body reach"), b.radius = r.get<double>("body radius");
+    b.exact_reach = r.get<double>("body reach"), b.exact_radius = r.get<double>("body radius");
+  }
+  coord_ = r.get_vector<Vec<D>>("body coordinates", n_spheres);
+  if (static_cast<int>(coord_.size()) != n_spheres) r.fail("body coordinates for another number of spheres");
 }
 
 template <int D>

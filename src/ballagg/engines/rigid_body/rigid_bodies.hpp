@@ -24,6 +24,9 @@
 
 namespace ballagg {
 
+class ByteWriter;
+class ByteReader;
+
 // A body's reach and radius bounds are loosened at each merge (triangle inequality); they
 // are recomputed exactly, O(size), once they exceed the last exact value by this factor.
 inline constexpr double kBoundSlack = 1.1;
@@ -88,6 +91,11 @@ class RigidBodies {
     const Cluster<D>& k = s.clusters[c];
     return 0.5 * k.mass * k.velocity.squaredNorm() + body_[c].rotation.energy();
   }
+
+  // Checkpoints: every body (mass properties, bounds, free rotation) and every sphere's
+  // own-frame coordinate, exactly. restore() expects the sizes of the saved state.
+  void save(ByteWriter& w) const;
+  void restore(ByteReader& r, int n_clusters, int n_spheres);
 
  private:
   void set_rotation(State<D>& s, int c, const Rotation<D>& space_from_principal, const Spin<D>& momentum, double t);

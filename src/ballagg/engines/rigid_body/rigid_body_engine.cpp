@@ -30,6 +30,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -41,6 +42,7 @@
 #include "ballagg/engines/event_driven/event_loop.hpp"
 #include "ballagg/engines/rigid_body/contact_search.hpp"
 #include "ballagg/engines/rigid_body/rigid_bodies.hpp"
+#include "ballagg/io/byte_stream.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
 #include "ballagg/spatial/neighbor_lists.hpp"
 
@@ -52,10 +54,14 @@ namespace {
 constexpr double kEnergyRoundOff = 1e-10;
 
 template <int D>
+class ObservedState;
+
+template <int D>
 class RigidBodyCore {
   using Pose = typename RigidBodies<D>::Pose;
 
  public:
+  using Settings = RigidBodySettings;
   RigidBodyCore(State<D>& state, const RigidBodySettings& settings)
       : s_(state), law_(settings), skin_(choose_skin(state, settings.skin)) {
     if (law_.coagulation == Coagulation::sphere) {
@@ -82,7 +88,108 @@ class RigidBodyCore {
     check_span(-1);
   }
 
+  // Restores what save() wrote for this state (a checkpoint), nothing computed again: the
+  // run goes on with the very bodies, lists and events the saved one had.
+  RigidBodyCore(State<D>& state, const RigidBodySettings& settings, std::string_view saved)
+      : s_(state), law_(settings), skin_(0.0), resumed_(true) {
+    const int n = s_.n_spheres();
+    const int m = static_cast<int>(s_.clusters.size());
+    ByteReader r(saved, "checkpoint of the rigid-body engine");
+    count_ = r.get<EngineCounters>("counters");
+    loop_ = r.get<EventLoopState>("loop state");
+    skin_ = r.get<double>("skin");
+    if (!(std::isfinite(skin_) && skin_ > 0.0)) r.fail("neighbour-list skin not a positive number");
+    if (r.get<std::int32_t>("sphere count") != n || r.get<std::int32_t>("cluster count") != m)
+      r.fail("saved for another number of spheres or clusters");
+    s_.spin.resize(m);
+    for (ClusterSpin<D>& w : s_.spin) {
+      w.angular_velocity = r.get<Spin<D>>("angular velocity");
+      w.angular_momentum = r.get<Spin<D>>("angular momentum");
+    }
+    bodies_.restore(r, m, n);
+    grid_ = std::make_unique<CellGrid<D>>(s_.box, 2.0 * s_.max_radius() + 1.5 * skin_, n);
+    if (r.get<double>("cell size") != grid_->cell_size()) r.fail("cell grid for another largest radius or skin");
+    grid_->restore(r);
+    lists_.reset(n, m);
+    lists_.restore(r);
+    calendar_.reset(m);
+    calendar_.restore(r, [&](const Event& e) {
+      const bool ok = e.kind == EventKind::collision        ? e.a >= 0 && e.a < e.b && e.b < n
+                      : e.kind == EventKind::wall           ? e.a >= 0 && e.a < n && e.b >= 0 && e.b < 2 * D
+                      : e.kind == EventKind::contact_search ? e.a >= 0 && e.a < m && e.b >= -2 * D && e.b < m && e.b != e.a
+                      : e.kind == EventKind::list_rebuild && e.a >= 0 && e.a < m;
+      if (!ok) r.fail("an event that names no sphere, body or wall");
+    });
+    pose_time_ = r.get_vector<double>("pose times", m);
+    pose_.resize(m);
+    for (Pose& p : pose_) {
+      p.rotation = r.get<Rotation<D>>("pose");
+      p.angular_velocity = r.get<Spin<D>>("pose");
+    }
+    drift_.resize(m);
+    for (Drift& d : drift_) {
+      d.displacement_at_anchor = r.get<Vec<D>>("drift");
+      d.slack = r.get<double>("drift slack");
+      d.angle_at_anchor = r.get<double>("drift angle");
+    }
+    rebuild_at_ = r.get_vector<double>("rebuild times", m);
+    serial_ = r.get_vector<std::int64_t>("body serials", m);
+    partner_ = r.get_vector<std::int64_t>("body partners", m);
+    next_serial_ = r.get<std::int64_t>("next serial");
+    empty_ = r.get_vector<std::int32_t>("empty clusters", m);
+    for (std::int32_t c : empty_)
+      if (c < 0 || c >= m || s_.clusters[c].alive()) r.fail("an empty cluster that is not empty");
+    merged_sphere_ = r.get_vector<char>("merged spheres", n);
+    free_mass_ = r.get<double>("free mass");
+    total_mass_ = r.get<double>("total mass");
+    spans_box_ = r.get<std::uint8_t>("spans box") != 0;
+    if (static_cast<int>(pose_time_.size()) != m || static_cast<int>(rebuild_at_.size()) != m ||
+        static_cast<int>(serial_.size()) != m || static_cast<int>(partner_.size()) != m ||
+        static_cast<int>(merged_sphere_.size()) != n)
+      r.fail("per-body or per-sphere arrays of another length");
+    r.expect_end();
+  }
+
+  // Everything the engine carries from one event to the next, the state aside; and the
+  // state's spins, which only this engine writes. The state itself is saved as it is: its
+  // sphere offsets are those last written (write_state), and the run goes on from the
+  // bodies saved here, so the resumed state stays, field by field, the uninterrupted one.
+  std::string save() const {
+    const int m = static_cast<int>(s_.clusters.size());
+    ByteWriter w;
+    w.put(count_);
+    w.put(loop_);
+    w.put(skin_);
+    w.put<std::int32_t>(s_.n_spheres());
+    w.put<std::int32_t>(m);
+    for (const ClusterSpin<D>& c : s_.spin) w.put(c.angular_velocity), w.put(c.angular_momentum);
+    bodies_.save(w);
+    w.put(grid_->cell_size());
+    grid_->save(w);
+    lists_.save(w);
+    calendar_.save(w);
+    w.put_vector(pose_time_);
+    for (const Pose& p : pose_) w.put(p.rotation), w.put(p.angular_velocity);
+    for (const Drift& d : drift_) w.put(d.displacement_at_anchor), w.put(d.slack), w.put(d.angle_at_anchor);
+    w.put_vector(rebuild_at_);
+    w.put_vector(serial_);
+    w.put_vector(partner_);
+    w.put(next_serial_);
+    w.put_vector(empty_);
+    w.put_vector(merged_sphere_);
+    w.put(free_mass_);
+    w.put(total_mass_);
+    w.put<std::uint8_t>(spans_box_);
+    return w.take();
+  }
+
+  RunResult run(State<D>& state, const StopCriteria& stop, RunObserver<D>& observer);
+
   EngineCounters& counters() { return count_; }
+  EventLoopState& loop() { return loop_; }
+  // True once, for a core restored from a checkpoint: its state is the saved one as it
+  // was, and must not be written anew at the start.
+  bool take_resumed() { return std::exchange(resumed_, false); }
 
   std::optional<StopReason> stop_reason() const {
     if (spans_box_) return StopReason::body_spans_box;
@@ -571,6 +678,7 @@ class RigidBodyCore {
     if (impact.approaching) {
       fold_drift(c, t);
       bodies_.apply_impulse(s_, c, impact.impulse, lever, t);
+      s_.add_wall_impulse(impact.impulse);  // the momentum budget (summary.json wall_impulse)
       forget_pose(c);
       ++count_.wall_bounces;
     }
@@ -808,7 +916,9 @@ class RigidBodyCore {
   double free_mass_ = 0.0, total_mass_ = 0.0;         // mass in unaggregated spheres
   double aggregated_target_ = kNever;
   bool spans_box_ = false;
+  bool resumed_ = false;
   EngineCounters count_;
+  EventLoopState loop_;
 };
 
 // Keeps the state exact whenever an observer reads it (RunObserver::next_position_read).
@@ -819,7 +929,7 @@ class ObservedState final : public RunObserver<D> {
       : core_(core), s_(state), inner_(inner) {}
 
   void on_start(const State<D>& s) override {
-    core_.write_state(s.time);
+    if (!core_.take_resumed()) core_.write_state(s.time);
     inner_.on_start(s);
   }
   void before_event(const State<D>& s, double t) override {
@@ -841,6 +951,10 @@ class ObservedState final : public RunObserver<D> {
     core_.write_state(s.time);
     inner_.on_finish(s, r);
   }
+  bool checkpoint_due() override { return inner_.checkpoint_due(); }
+  void on_checkpoint(const State<D>& s, const EngineCounters& c, const std::string& engine_state) override {
+    inner_.on_checkpoint(s, c, engine_state);
+  }
 
  private:
   RigidBodyCore<D>& core_;
@@ -849,22 +963,13 @@ class ObservedState final : public RunObserver<D> {
 };
 
 template <int D>
-class RigidBodyEngine final : public Engine<D> {
- public:
-  explicit RigidBodyEngine(const RigidBodySettings& settings) : settings_(settings) {}
-  std::string_view name() const override { return "rigid-body"; }
-  RunResult run(State<D>& state, const StopCriteria& stop, RunObserver<D>& observer) override {
-    RigidBodyCore<D> core(state, settings_);
-    core.set_aggregated_target(stop.aggregated_fraction);
-    ObservedState<D> observed(core, state, observer);
-    const RunResult r = run_event_loop(core, state, stop, observed);
-    core.write_state(state.time);
-    return r;
-  }
-
- private:
-  RigidBodySettings settings_;
-};
+RunResult RigidBodyCore<D>::run(State<D>& state, const StopCriteria& stop, RunObserver<D>& observer) {
+  set_aggregated_target(stop.aggregated_fraction);
+  ObservedState<D> observed(*this, state, observer);
+  const RunResult r = run_event_loop(*this, state, stop, observed);
+  write_state(state.time);
+  return r;
+}
 
 }  // namespace
 
@@ -875,7 +980,7 @@ double rigid_body_skin(const State<D>& s) {
 
 template <int D>
 std::unique_ptr<Engine<D>> make_rigid_body_engine(const RigidBodySettings& settings) {
-  return std::make_unique<RigidBodyEngine<D>>(settings);
+  return std::make_unique<EventLoopEngine<D, RigidBodyCore<D>>>("rigid-body", settings);
 }
 
 template double rigid_body_skin<2>(const State<2>&);
