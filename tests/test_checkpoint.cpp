@@ -185,6 +185,20 @@ TEST(Checkpoint, RigidBodyResumesBitForBitWithSphereCoagulation) {
   expect_resumed_runs_identical<3>(c, {0.5});
 }
 
+TEST(Checkpoint, RigidBodyRefusesBytesOfAnotherRun) {
+  const Config c = rigid_config(3, 200, 0.1, Boundary::periodic, 16);
+  State<3> s = make_initial_state<3>(c);
+  SaveOnce<3> saver(0);
+  make_engine<3>(resolve_defaults(c, s))->run(s, {.clusters = 150}, saver);
+  ASSERT_FALSE(saver.engine.empty());
+  State<3> other = make_initial_state<3>(rigid_config(3, 190, 0.1, Boundary::periodic, 16));
+  EXPECT_THROW(make_engine<3>(resolve_defaults(c, other))->resume_from(other, saver.engine), CheckpointError);
+  for (std::size_t cut : {saver.engine.size() / 3, saver.engine.size() - 1}) {
+    State<3> same = StateCodec<3>::decode(saver.state);
+    EXPECT_THROW(make_engine<3>(resolve_defaults(c, same))->resume_from(same, saver.engine.substr(0, cut)), CheckpointError);
+  }
+}
+
 TEST(Checkpoint, StateRoundTripsExactly) {
   State<3> s = make_initial_state<3>(small_config(3, 200, 0.2, Boundary::periodic, 3));
   RunObserver<3> none;
