@@ -1,5 +1,7 @@
 // The parts of the time-stepping engine on their own: the pair index, the adhesive set and
 // its groups, the bodies of a step, and the minimiser's stopping rules and bonds.
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <set>
@@ -73,6 +75,65 @@ TEST(NearPairs, EveryContactIsFoundAsByABruteForceSearch) {
   near_pairs_find_every_contact<2>(Boundary::walls);
   near_pairs_find_every_contact<2>(Boundary::periodic);
   near_pairs_find_every_contact<3>(Boundary::periodic);
+}
+
+// The distance from p to the segment from a to a + d; in a periodic box, to its nearest
+// image (images up to three box lengths away, enough for the segments below).
+template <int D>
+double distance_to_segment(const Box<D>& box, const Vec<D>& p, const Vec<D>& a, const Vec<D>& d) {
+  const int images = box.periodic() ? 3 : 0;
+  double best = 1e300;
+  std::array<int, D> n;
+  n.fill(-images);
+  while (true) {
+    Vec<D> q = p;
+    for (int k = 0; k < D; ++k) q[k] += n[k] * box.length;
+    const double t = std::clamp((q - a).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    best = std::min(best, (q - a - t * d).norm());
+    int k = 0;
+    while (k < D && ++n[k] > images) n[k] = -images, ++k;
+    if (k == D) return best;
+  }
+}
+
+// The retreat's narrow search (retreat.cpp): every point within the radius of a segment
+// is reported (each once), as a brute force finds. Points a little beyond a wall (where a minimisation can push a
+// sphere) and segments wrapping round a periodic box included.
+template <int D>
+void segment_query_finds_every_point_near_the_segment(Boundary boundary) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double length = 20.0;
+  const Box<D> box{length, boundary};
+  std::vector<Vec<D>> points(1500);
+  for (Vec<D>& p : points)
+    for (int a = 0; a < D; ++a) {
+      p[a] = length * unit(rng);
+      if (boundary == Boundary::walls && unit(rng) < 0.02) p[a] = a % 2 ? -0.3 * unit(rng) : length + 0.3 * unit(rng);
+    }
+  SortedCellList<D> cells(box, 0.6, static_cast<int>(points.size()));
+  cells.build(points);
+  for (int trial = 0; trial < 100; ++trial) {
+    Vec<D> a, d;
+    for (int k = 0; k < D; ++k) {
+      a[k] = length * (1.2 * unit(rng) - 0.1);
+      d[k] = (trial % 10 == 0 ? 2.0 * length : 6.0) * (unit(rng) - 0.5);
+    }
+    const double radius = 0.3 + unit(rng);
+    std::set<int> expected, got;
+    for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+      if (distance_to_segment(box, points[i], a, d) < radius) expected.insert(i);
+    }
+    cells.for_each_near_segment(a, d, radius, [&](int i) { EXPECT_TRUE(got.insert(i).second) << "point " << i << " twice"; });
+    for (int i : expected) EXPECT_TRUE(got.count(i)) << "point " << i << " missed, trial " << trial;
+  }
+}
+
+TEST(SortedCellList, SegmentQueryFindsEveryPointNearTheSegment) {
+  segment_query_finds_every_point_near_the_segment<2>(Boundary::walls);
+  segment_query_finds_every_point_near_the_segment<2>(Boundary::periodic);
+  segment_query_finds_every_point_near_the_segment<3>(Boundary::walls);
+  segment_query_finds_every_point_near_the_segment<3>(Boundary::periodic);
 }
 
 TEST(PairIndex, FindsEveryPairInEitherOrderAndForgetsThemWhenCleared) {

@@ -87,6 +87,50 @@ class GridGeometry {
     }
   }
 
+  // Calls f(cell index) for each distinct cell that may hold points within `radius` of the
+  // segment from a to a + d (a capsule; a need not lie in the box: periodic coordinates
+  // are wrapped, those beyond a wall clamped). Cells are taken from the capsule's bounding
+  // box and kept when their centre lies within radius + half a cell diagonal of the
+  // segment, so a long oblique segment costs the cells along it, not the square around it.
+  // Not filtered: cells on a wall (they also hold the points clamped from beyond it), and
+  // every cell when the capsule wraps all the way round a periodic axis.
+  template <class F>
+  void for_each_cell_near_segment(const Vec<D>& a, const Vec<D>& d, double radius, F&& f) const {
+    std::array<int, D> lo, hi;
+    bool filter = true;
+    for (int k = 0; k < D; ++k) {
+      const double low = std::min(a[k], a[k] + d[k]) - radius, high = std::max(a[k], a[k] + d[k]) + radius;
+      lo[k] = static_cast<int>(std::floor(low / cell_size_));
+      hi[k] = static_cast<int>(std::floor(high / cell_size_));
+      if (box_.periodic()) {
+        if (hi[k] - lo[k] + 1 >= per_side_) lo[k] = 0, hi[k] = per_side_ - 1, filter = false;  // every cell once
+      } else {
+        lo[k] = std::max(lo[k], 0);
+        hi[k] = std::min(hi[k], per_side_ - 1);
+        if (lo[k] > hi[k]) return;
+      }
+    }
+    const double keep = radius + 0.5 * std::sqrt(static_cast<double>(D)) * cell_size_;
+    const double dd = d.squaredNorm();
+    std::array<int, D> x = lo;
+    while (true) {
+      Vec<D> centre;
+      for (int k = 0; k < D; ++k) centre[k] = (x[k] + 0.5) * cell_size_;
+      const Vec<D> rel = centre - a;
+      const double t = dd > 0.0 ? std::clamp(rel.dot(d) / dd, 0.0, 1.0) : 0.0;
+      bool on_wall = false;
+      for (int k = 0; k < D; ++k) on_wall = on_wall || (!box_.periodic() && (x[k] == 0 || x[k] == per_side_ - 1));
+      if (!filter || on_wall || (rel - t * d).squaredNorm() <= keep * keep) {
+        std::int64_t cell = 0;
+        for (int k = D - 1; k >= 0; --k) cell = cell * per_side_ + ((x[k] % per_side_) + per_side_) % per_side_;
+        f(cell);
+      }
+      int k = 0;
+      while (k < D && ++x[k] > hi[k]) x[k] = lo[k], ++k;
+      if (k == D) break;
+    }
+  }
+
   // Calls f(cell, other) once for every unordered pair of distinct adjacent cells and
   // f(cell, cell) for every cell: the half stencil, for visiting each pair of items once.
   // Needs at least 3 cells a side when periodic (otherwise neighbours repeat).

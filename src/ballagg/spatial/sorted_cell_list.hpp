@@ -88,6 +88,15 @@ class SortedCellList {
     });
   }
 
+  // Calls f(id) for every item binned in a cell that may hold points within radius of
+  // the segment from a to a + d.
+  template <class F>
+  void for_each_near_segment(const Vec<D>& a, const Vec<D>& d, double radius, F&& f) const {
+    grid_.for_each_cell_near_segment(a, d, radius, [&](std::int64_t cell) {
+      for (std::int32_t s = start_[cell]; s < start_[cell + 1]; ++s) f(order_[s]);
+    });
+  }
+
  private:
   GridGeometry<D> grid_;
   std::vector<std::int32_t> start_;  // per cell: first slot in order_ (and one past the end)

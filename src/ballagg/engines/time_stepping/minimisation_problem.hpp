@@ -140,7 +140,9 @@ void for_each_neighbour_of_group(const ProblemContext<D>& ctx, const CollisionGr
       ctx.cells.for_each_within(ctx.positions[i], reach + ctx.cell_slack, [&](int j) {
         if (!ctx.displaced.contains(j)) visit(j);
       });
-      for (int j : ctx.displaced.list()) visit(j);
+      // Displaced spheres are at their exact places: the far ones are dropped at once.
+      for (int j : ctx.displaced.list())
+        if (s.box.separation(ctx.positions[i], ctx.positions[j]).squaredNorm() <= reach * reach) visit(j);
     }
   }
 }

@@ -34,15 +34,52 @@ double first_free(std::vector<std::pair<double, double>>& bad) {
 
 }  // namespace
 
+// The spheres of a cluster of the group up to this size are listed directly as partners
+// of a retreating sphere (cheaper than a search in the cell list).
+constexpr int kListedClusterSize = 64;
+
+// The distance from the origin to the segment from p to p + d.
+template <int D>
+double distance_to_segment(const Vec<D>& p, const Vec<D>& d) {
+  const double dd = d.squaredNorm();
+  const double t = dd > 0.0 ? std::clamp(-p.dot(d) / dd, 0.0, 1.0) : 0.0;
+  return (p + t * d).norm();
+}
+
+// Where a cluster of the group starts its retreat: the bounding sphere of its spheres'
+// centres (free flight's end, this step's minimisations undone).
+template <int D>
+struct RetreatStart {
+  Vec<D> centre;
+  double radius;
+};
+
+template <int D>
+std::vector<RetreatStart<D>> retreat_starts(const ProblemContext<D>& ctx,
+                                            const std::vector<std::pair<std::int32_t, std::int32_t>>& clusters) {
+  const State<D>& s = ctx.state;
+  std::vector<RetreatStart<D>> out;
+  for (const auto& [c, b] : clusters) {
+    const auto& members = s.clusters[c].members;
+    auto start = [&](int i) { return Vec<D>(ctx.positions[i] - ctx.step_shift[i]); };
+    const Vec<D> first = start(members.front());
+    Vec<D> sum = Vec<D>::Zero();  // of the separations from the first sphere (periodic images)
+    for (int i : members) sum += s.box.separation(start(i), first);
+    const Vec<D> centre = first + sum / static_cast<double>(members.size());
+    double radius = 0.0;
+    for (int i : members) radius = std::max(radius, s.box.separation(start(i), centre).norm());
+    out.push_back({centre, radius});
+  }
+  return out;
+}
+
 template <int D>
 GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionGroup& g) {
   const State<D>& s = ctx.state;
   const auto clusters = clusters_of_group(ctx, g);
-  double longest_flight = 0.0, longest_shift = 0.0;
-  for (const auto& [c, b] : clusters) {
-    longest_flight = std::max(longest_flight, ctx.flight[c].norm());
+  double longest_shift = 0.0;
+  for (const auto& [c, b] : clusters)
     for (int i : s.clusters[c].members) longest_shift = std::max(longest_shift, ctx.step_shift[i].norm());
-  }
   const double tolerance = retreat_tolerance(ctx.settings.daha);
 
   struct Candidate {
@@ -52,8 +89,7 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
   };
   std::vector<Candidate> candidates;
   std::vector<std::pair<double, double>> bad;  // retreat fractions where a pair is too close
-  const double reach = 2.0 * (s.max_radius() + longest_flight + longest_shift);
-  for_each_neighbour_of_group(ctx, g, reach, std::numeric_limits<int>::max(), [&](int i, int j, int bj) {
+  auto consider = [&](int i, int j, int bj) {
     const int ci = s.spheres.cluster[i], cj = s.spheres.cluster[j];
     const bool member = bj >= 0;
     const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
@@ -69,7 +105,60 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
     const auto interval = too_close<D>(base, drift, too_near);
     if (interval.first < interval.second && interval.second > 0.0) bad.push_back(interval);
     candidates.push_back({{std::min(i, j), std::max(i, j), 0.0}, base, drift, sigma});
-  });
+  };
+  // Only the pairs that the retreat can bring within contact distance are looked at. A
+  // sphere i moves back along its cluster's flight, a segment: a sphere outside the group
+  // (which stays where it is) matters only within a contact distance of that segment,
+  // and a sphere of another cluster o of the group only within one of the segment of i's
+  // motion relative to o. So: a narrow search around each such segment (wide enough for
+  // the pairs left touching, eps_c, and for the cell list's slack), and o's spheres
+  // listed directly when o is small, none at all when o's bounding sphere stays away.
+  const QueriedClusters<D> queried(ctx, g, std::numeric_limits<int>::max());
+  const double contact_reach = 2.0 * s.max_radius() * (1.0 + ctx.settings.daha.eps_c);
+  const std::vector<RetreatStart<D>> starts = retreat_starts(ctx, clusters);
+  for (std::size_t k = 0; k < clusters.size(); ++k) {
+    const int c = clusters[k].first;
+    if (!queried(c)) continue;
+    for (int i : s.clusters[c].members) {
+      const Vec<D> start = ctx.positions[i] - ctx.step_shift[i];
+      for (std::size_t m = 0; m < clusters.size(); ++m) {
+        const auto [other, other_body] = clusters[m];
+        if (other == c) continue;
+        const Vec<D> relative_flight = ctx.flight[c] - ctx.flight[other];
+        const Vec<D> to_centre = s.box.separation(start, starts[m].centre);
+        if (distance_to_segment<D>(to_centre, -relative_flight) > starts[m].radius + contact_reach) continue;
+        auto member = [&](int j) {
+          if (!(queried(other) && j < i)) consider(i, j, other_body);
+        };
+        if (s.clusters[other].size() <= kListedClusterSize) {
+          for (int j : s.clusters[other].members) member(j);
+          continue;
+        }
+        // The spheres of o are where the step's minimisations moved them, up to
+        // longest_shift from their start.
+        auto in_other = [&](int j) {
+          if (s.spheres.cluster[j] == other) member(j);
+        };
+        ctx.cells.for_each_near_segment(start, Vec<D>(-relative_flight), contact_reach + longest_shift + ctx.cell_slack,
+                                        [&](int j) {
+                                          if (!ctx.displaced.contains(j)) in_other(j);
+                                        });
+        for (int j : ctx.displaced.list())
+          if (s.spheres.cluster[j] == other) member(j);
+      }
+      auto outside = [&](int j) {
+        if (s.spheres.cluster[j] != c && body_index(ctx, g, j) < 0) consider(i, j, -1);
+      };
+      ctx.cells.for_each_near_segment(start, Vec<D>(-ctx.flight[c]), contact_reach + ctx.cell_slack, [&](int j) {
+        if (!ctx.displaced.contains(j)) outside(j);
+      });
+      // Displaced spheres are at their exact places: those far from the path are dropped
+      // before the (dearer) look-up of their body.
+      for (int j : ctx.displaced.list())
+        if (distance_to_segment<D>(s.box.separation(start, ctx.positions[j]), -ctx.flight[c]) <= contact_reach)
+          outside(j);
+    }
+  }
   const double theta = std::min(1.0, first_free(bad));
 
   GroupSolution<D> out;
@@ -80,6 +169,9 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
   const double eps_c = ctx.settings.daha.eps_c;
   for (const Candidate& k : candidates)
     if (std::abs((k.base - theta * k.drift).norm() / k.sigma - 1.0) <= eps_c) out.contacts.push_back(k.pair);
+  // In pair order, not in the order the searches above happened to find them.
+  std::sort(out.contacts.begin(), out.contacts.end(),
+            [](const SpherePair& a, const SpherePair& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; });
   for (const auto& [c, b] : clusters)
     for (int i : s.clusters[c].members) {
       const Vec<D> shift = -ctx.step_shift[i] - theta * ctx.flight[c];
