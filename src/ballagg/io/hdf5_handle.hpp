@@ -52,7 +52,8 @@ class Handle {
 // call before any other call on that thread.
 void quiet_errors();
 
-// Throws std::runtime_error("what: HDF5 error") when status < 0; returns status.
+// Throws std::runtime_error("what: HDF5 error") when status < 0 (and clears HDF5's error
+// stack of the thread); returns status.
 hid_t check(hid_t status, const std::string& what);
 
 Handle create_group(hid_t parent, const std::string& name);
