@@ -11,6 +11,8 @@ namespace ballagg::hdf5 {
 
 void quiet_errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
+void no_library_exit_handler() { H5dont_atexit(); }
+
 hid_t check(hid_t status, const std::string& what) {
   if (status < 0) {
     // The failure is reported by our exception: empty the thread's HDF5 error stack, which
