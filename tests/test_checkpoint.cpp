@@ -418,7 +418,12 @@ TEST(CheckpointCli, SigtermWritesCheckpointAndSaysHowToResume) {
   // checkpoint_every = 0: the only checkpoint is the one the signal asks for.
   args.insert(args.end(), {"--set", "output.checkpoint_every=0"});
   const pid_t pid = spawn_ballagg(args, tmp / "run.log");
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  // The signal handlers are installed once the input is checked and the run directory
+  // made (a signal before that ends the program as any other would): wait for the
+  // directory, however slow the start (a sanitizer build), then let the run go on a little.
+  for (int k = 0; k < 10000 && !std::filesystem::exists(run); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
   kill(pid, SIGTERM);
   const int status = wait_status(pid);
   const std::string log = read_file(tmp / "run.log");
