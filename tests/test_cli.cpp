@@ -569,10 +569,14 @@ TEST_F(Cli, TrajectoryBeyondAFileSizeLimitIsOneLineNamingItAndLeavesNoPartialFil
   const std::string limited = "bash -c 'trap \"\" XFSZ; ulimit -f 16; exec \"$0\" \"$@\"'";
   for (const std::string format : {"xyz", "h5md"}) {
     const fs::path out = path("out-" + format);
+    // HDF5 1.10 loses a buffer of its own when a write fails (8200 bytes from H5FL_blk_malloc
+    // in H5D__write): under `make sanitize` this run is checked for memory errors, not leaks.
+    const std::string launcher =
+        format == "h5md" ? "env ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" " + limited : limited;
     const Outcome o = ballagg::testing::run_ballagg({"run", "--quiet", "--set", "system.n=200", "--set",
                                                      "output.snapshot_every=0.05", "--set",
                                                      "output.snapshot_formats=\"" + format + "\"", "--out", out.string()},
-                                                    dir_, limited);
+                                                    dir_, launcher);
     std::vector<std::string> listing;
     if (fs::exists(out))
       for (const fs::directory_entry& e : fs::directory_iterator(out)) listing.push_back(e.path().filename().string());
