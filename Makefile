@@ -36,6 +36,7 @@ SANITIZE_DIR ?= build-sanitize
 SANITIZE_FLAGS = -fsanitize=address,undefined,fuzzer-no-link -fno-omit-frame-pointer -fno-sanitize-recover=all
 SANITIZE_TESTS ?= .
 FUZZ_SECONDS ?= 30
+SANITIZE_LSAN = suppressions=$(CURDIR)/tests/sanitize/lsan.supp:print_suppressions=0
 
 sanitize-configure: setup
 	@cmake -S . -B $(SANITIZE_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
@@ -47,12 +48,12 @@ sanitize-configure: setup
 # into /usr/bin/python3.
 sanitize: sanitize-configure
 	@cmake --build $(SANITIZE_DIR) -j $(JOBS) --target ballagg_tests ballagg
-	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=$(SANITIZE_LSAN) \
 	  ctest --test-dir $(SANITIZE_DIR) --output-on-failure -j $(JOBS) -E '^PythonModule$$' -R '$(SANITIZE_TESTS)'
 
 fuzz: sanitize-configure
 	@cmake --build $(SANITIZE_DIR) -j $(JOBS) --target fuzz_targets
-	@bash tests/fuzz/run_fuzzers $(SANITIZE_DIR) $(FUZZ_SECONDS)
+	@LSAN_OPTIONS=$(SANITIZE_LSAN) bash tests/fuzz/run_fuzzers $(SANITIZE_DIR) $(FUZZ_SECONDS)
 
 clean:
 	rm -rf $(BUILD_DIR) $(SANITIZE_DIR)

@@ -7,8 +7,6 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-#include <omp.h>
-
 #include <chrono>
 #include <cstring>
 #include <fstream>
@@ -22,6 +20,7 @@
 #include "ballagg/io/state_csv.hpp"
 #include "cli_support.hpp"
 #include "support.hpp"
+#include "thread_count.hpp"
 
 extern char** environ;
 
@@ -115,8 +114,7 @@ TEST(Checkpoint, NaiveEventDrivenResumesBitForBit) {
 // threads only wait for each other on a busy machine (the command-line test below resumes
 // a run on the default number of threads).
 TEST(Checkpoint, TimeSteppingResumesBitForBitEveryModel) {
-  const int threads = omp_get_max_threads();
-  omp_set_num_threads(1);
+  const testing::ThreadCount one_thread(1);
   for (TsModel model : {TsModel::rigid, TsModel::almost_rigid, TsModel::non_rigid}) {
     Config c = small_config(2, 100, 0.2, Boundary::walls, 8);
     c.engine.kind = EngineKind::ts;
@@ -128,7 +126,6 @@ TEST(Checkpoint, TimeSteppingResumesBitForBitEveryModel) {
   c.engine.kind = EngineKind::ts;
   c.stop.clusters = 20;
   expect_resumed_runs_identical<3>(c, {0.3});
-  omp_set_num_threads(threads);
 }
 
 // The rigid-body engine can save every 256 events, like the event-driven ones: its bodies
@@ -418,7 +415,12 @@ TEST(CheckpointCli, SigtermWritesCheckpointAndSaysHowToResume) {
   // checkpoint_every = 0: the only checkpoint is the one the signal asks for.
   args.insert(args.end(), {"--set", "output.checkpoint_every=0"});
   const pid_t pid = spawn_ballagg(args, tmp / "run.log");
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  // The signal handlers are installed once the input is checked and the run directory
+  // made (a signal before that ends the program as any other would): wait for the
+  // directory, however slow the start (a sanitizer build), then let the run go on a little.
+  for (int k = 0; k < 10000 && !std::filesystem::exists(run); ++k)
+    std::this_thread::sleep_for(std::chrono::milliseconds(2));
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
   kill(pid, SIGTERM);
   const int status = wait_status(pid);
   const std::string log = read_file(tmp / "run.log");

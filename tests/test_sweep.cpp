@@ -261,7 +261,11 @@ TEST(SweepCli, TwoMpiRanksGiveTheRunsOfOneProcess) {
   const fs::path file = dir.write("tiny.toml", kTinySweep);
   const auto serial = run_ballagg({"sweep", file.string(), "--out", (dir / "one").string(), "-q"}, dir.path());
   ASSERT_EQ(serial.status, 0) << serial.err;
+  // Under `make sanitize`, the ranks are checked for memory errors but not for leaks: Open
+  // MPI leaves its own allocations at MPI_Finalize, in plugins unloaded by then (nothing
+  // there to fix or even name; the serial sweep above is leak-checked).
   const auto mpi = run_ballagg({"sweep", file.string(), "--out", (dir / "two").string(), "-q"}, dir.path(),
+                               "env ASAN_OPTIONS=\"$ASAN_OPTIONS:detect_leaks=0\" "
                                "mpirun --allow-run-as-root --oversubscribe -np 2");
   ASSERT_EQ(mpi.status, 0) << mpi.err << mpi.out;
   EXPECT_CONTAINS(mpi.out, "sweep: 4 runs done, 0 already finished, 0 failed");

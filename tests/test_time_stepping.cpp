@@ -1,8 +1,6 @@
 // The time-stepping engine (paper §3): analytic outcomes of simple collisions, conservation
 // laws, the stopping conditions of the minimiser after every step, the three cluster
 // models, determinism and independence of the thread count.
-#include <omp.h>
-
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -12,6 +10,7 @@
 #include "ballagg/engines/time_stepping/time_stepping_engine.hpp"
 #include "ballagg/io/state_csv.hpp"
 #include "support.hpp"
+#include "thread_count.hpp"
 
 namespace ballagg {
 namespace {
@@ -177,16 +176,13 @@ TEST_P(TimeStepping, SameSeedGivesByteIdenticalStates) {
 }
 
 TEST_P(TimeStepping, ResultDoesNotDependOnTheThreadCount) {
-  auto final_text = [&](int threads) {
-    omp_set_num_threads(threads);
+  const auto [one, two] = testing::on_one_and_two_threads([&] {
     // The per-sphere models cost far more per sphere (every sphere is a variable).
     const int n = GetParam() == TsModel::rigid ? 400 : 120;
     State<3> s = make_initial_state<3>(testing::small_config(3, n, 0.2, Boundary::walls, 10));
     run_ts(s, settings(GetParam()), until(1e9, n / 10));
     return state_csv_text(s);
-  };
-  const std::string one = final_text(1), two = final_text(2);
-  omp_set_num_threads(omp_get_num_procs());
+  });
   EXPECT_EQ(one, two);
 }
 

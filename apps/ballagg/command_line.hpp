@@ -19,6 +19,8 @@
 
 namespace ballagg::cli {
 
+// Bad input, and an output file that cannot be written (a full disk, an unwritable
+// directory): both are the user's to mend, reported in one line with nothing half-written.
 inline constexpr int kBadInput = 2;
 
 struct ConfigArgs {

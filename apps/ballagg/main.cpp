@@ -1,6 +1,7 @@
-// The ballagg command line. Exit status: 0 success, 2 bad input (one line on stderr,
-// nothing written), 1 any other failure. The commands and options are registered in
-// command_line.cpp; here the chosen one is run.
+// The ballagg command line. Exit status (docs/hardening.md): 0 success; 2 bad input
+// (one line on stderr, nothing written) or an output file that cannot be written (one
+// line naming it, nothing half-written); 1 any other failure; 128 + N after signal N.
+// The commands and options are registered in command_line.cpp; here the chosen one is run.
 #include <iostream>
 #include <optional>
 #include <string>
@@ -8,11 +9,14 @@
 #include <fmt/format.h>
 
 #include "ballagg/config/config.hpp"
+#include "ballagg/io/hdf5_handle.hpp"
+#include "ballagg/io/output_error.hpp"
 #include "ballagg/run/checkpointer.hpp"
 #include "ballagg/run/simulation.hpp"
 #include "command_line.hpp"
 
 int main(int argc, char** argv) {
+  ballagg::hdf5::no_library_exit_handler();  // every file is closed by its owner
   ballagg::cli::CommandLine cl;
   if (const std::optional<int> status = ballagg::cli::parse_command_line(cl, argc, argv)) return *status;
 
@@ -40,6 +44,9 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "ballagg: {}\n", e.what());
     return 128 + e.signal();
   } catch (const ballagg::InputError& e) {
+    fmt::print(stderr, "ballagg: error: {}\n", e.what());
+    return ballagg::cli::kBadInput;
+  } catch (const ballagg::OutputError& e) {
     fmt::print(stderr, "ballagg: error: {}\n", e.what());
     return ballagg::cli::kBadInput;
   } catch (const std::exception& e) {

@@ -1,19 +1,15 @@
 #include "ballagg/io/checkpoint_file.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
 #include <zlib.h>
 
-#include <cerrno>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 
 #include <fmt/format.h>
 
+#include "ballagg/io/atomic_file.hpp"
 #include "ballagg/io/byte_stream.hpp"
-#include "ballagg/io/output_dir.hpp"
 
 namespace fs = std::filesystem;
 
@@ -121,28 +117,10 @@ Checkpoint read_checkpoint_file(const std::string& dir) {
 }
 
 void write_checkpoint_file(const std::string& dir, const Checkpoint& checkpoint) {
-  const fs::path target = fs::path(dir) / kCheckpointFile;
-  const std::string temporary = temporary_path_for(target.string());
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0) throw std::runtime_error(fmt::format("{}: cannot create: {}", temporary, std::strerror(errno)));
-  bool ok = true;
-  int error = 0;
-  emit_checkpoint(checkpoint, [&](const char* data, std::size_t n) {
-    for (std::size_t done = 0; ok && done < n;) {
-      const ssize_t w = ::write(fd, data + done, n - done);
-      if (w < 0 && errno == EINTR) continue;
-      if (w <= 0) { ok = false; error = w < 0 ? errno : ENOSPC; break; }
-      done += static_cast<std::size_t>(w);
-    }
-  });
-  if (ok && ::fsync(fd) != 0) { ok = false; error = errno; }
-  ::close(fd);
-  if (!ok) {
-    std::error_code ec;
-    fs::remove(temporary, ec);
-    throw std::runtime_error(fmt::format("{}: cannot write the checkpoint: {}", target.string(), std::strerror(error)));
-  }
-  rename_into_place(temporary, target.string());
+  AtomicFile file((fs::path(dir) / kCheckpointFile).string());
+  emit_checkpoint(checkpoint, [&](const char* data, std::size_t n) { file.write({data, n}); });
+  file.sync();
+  file.commit();
 }
 
 }  // namespace ballagg

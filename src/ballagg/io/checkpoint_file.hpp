@@ -45,7 +45,7 @@ Checkpoint decode_checkpoint(std::string_view bytes, const std::string& source);
 Checkpoint read_checkpoint_file(const std::string& dir);
 // Writes dir/checkpoint.bin atomically and durably: a temporary file, flushed to the disk
 // (fsync), renamed over the previous checkpoint. A crash at any moment leaves either
-// the previous checkpoint or the new one. Throws std::runtime_error.
+// the previous checkpoint or the new one. Throws OutputError.
 void write_checkpoint_file(const std::string& dir, const Checkpoint& checkpoint);
 
 }  // namespace ballagg

@@ -8,6 +8,7 @@
 #include "ballagg/config/config.hpp"
 #include "ballagg/io/hdf5_handle.hpp"
 #include "ballagg/io/output_dir.hpp"
+#include "ballagg/io/output_error.hpp"
 #include "ballagg/version.hpp"
 
 namespace ballagg {
@@ -22,6 +23,21 @@ using hdf5::Series;
 // reading one sphere's history does not read whole frames.
 constexpr hsize_t kChunkValues = hsize_t{1} << 17;
 constexpr hsize_t kScalarChunk = 1024;  // records per chunk of step, time and observables
+
+// Runs `write`, a step of writing the file `target`: a failure inside HDF5 (which does not
+// pass on errno; with a valid file, the disk) becomes one OutputError naming the file.
+template <class F>
+auto writing(const std::filesystem::path& target, F&& write) {
+  try {
+    return write();
+  } catch (const InputError&) {
+    throw;
+  } catch (const OutputError&) {
+    throw;
+  } catch (const std::runtime_error& e) {
+    throw OutputError(fmt::format("{}: cannot write: {} (disk full?)", target.string(), e.what()));
+  }
+}
 
 }  // namespace
 
@@ -56,7 +72,10 @@ struct H5mdWriter<D>::Impl {
     const Handle fcpl(check(H5Pcreate(H5P_FILE_CREATE), "file properties"), H5Pclose);
     check(H5Pset_obj_track_times(fcpl, false), "file properties");
     file = Handle(H5Fcreate(temporary.c_str(), H5F_ACC_TRUNC, fcpl, fapl), H5Fclose);
-    if (file.get() < 0) throw std::runtime_error(fmt::format("{}: cannot create the file", temporary.string()));
+    if (file.get() < 0) {
+      H5Eclear2(H5E_DEFAULT);
+      throw std::runtime_error("cannot create the file");
+    }
 
     {
       const Handle h5md = hdf5::create_group(file, "h5md");
@@ -153,7 +172,7 @@ struct H5mdWriter<D>::Impl {
   }
 
   std::uint64_t flush() {
-    check(H5Fflush(file, H5F_SCOPE_GLOBAL), fmt::format("{}: flush (disk full?)", target.string()));
+    check(H5Fflush(file, H5F_SCOPE_GLOBAL), "flush");
     keep = true;
     return step->records();
   }
@@ -197,9 +216,10 @@ struct H5mdWriter<D>::Impl {
   void finish() {
     close_datasets();
     if (H5Fclose(file.release()) < 0) {
+      H5Eclear2(H5E_DEFAULT);
       std::error_code ec;
       std::filesystem::remove(temporary, ec);
-      throw std::runtime_error(fmt::format("{}: cannot write (disk full?)", target.string()));
+      throw OutputError(fmt::format("{}: cannot write: closing the HDF5 file failed (disk full?)", target.string()));
     }
     rename_into_place(temporary.string(), target.string());
   }
@@ -207,7 +227,7 @@ struct H5mdWriter<D>::Impl {
 
 template <int D>
 H5mdWriter<D>::H5mdWriter(const std::string& path, const Particles<D>& particles, const std::string& config_toml)
-    : impl_(std::make_unique<Impl>(path, particles, config_toml)) {}
+    : impl_(writing(path, [&] { return std::make_unique<Impl>(path, particles, config_toml); })) {}
 
 template <int D>
 H5mdWriter<D>::H5mdWriter(const std::string& path, const Particles<D>& particles, std::uint64_t mark)
@@ -219,7 +239,7 @@ H5mdWriter<D>::~H5mdWriter() = default;
 template <int D>
 std::uint64_t H5mdWriter<D>::flush() {
   hdf5::quiet_errors();
-  return impl_->flush();
+  return writing(impl_->target, [&] { return impl_->flush(); });
 }
 
 // HDF5 (built thread-safe in Debian) keeps its error printing switch per thread, and
@@ -228,13 +248,13 @@ std::uint64_t H5mdWriter<D>::flush() {
 template <int D>
 void H5mdWriter<D>::write(const Frame<D>& frame) {
   hdf5::quiet_errors();
-  impl_->write(frame);
+  writing(impl_->target, [&] { impl_->write(frame); });
 }
 
 template <int D>
 void H5mdWriter<D>::finish() {
   hdf5::quiet_errors();
-  impl_->finish();
+  writing(impl_->target, [&] { impl_->finish(); });
 }
 
 template class H5mdWriter<2>;

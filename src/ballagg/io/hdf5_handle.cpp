@@ -11,8 +11,16 @@ namespace ballagg::hdf5 {
 
 void quiet_errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
+void no_library_exit_handler() { H5dont_atexit(); }
+
 hid_t check(hid_t status, const std::string& what) {
-  if (status < 0) throw std::runtime_error(fmt::format("{}: HDF5 error", what));
+  if (status < 0) {
+    // The failure is reported by our exception: empty the thread's HDF5 error stack, which
+    // would otherwise hold its messages until the next HDF5 call on this thread, and leak
+    // them if the thread ends first (a frame writer's thread: BackgroundWriter).
+    H5Eclear2(H5E_DEFAULT);
+    throw std::runtime_error(fmt::format("{}: HDF5 error", what));
+  }
   return status;
 }
 

@@ -52,7 +52,15 @@ class Handle {
 // call before any other call on that thread.
 void quiet_errors();
 
-// Throws std::runtime_error("what: HDF5 error") when status < 0; returns status.
+// For a program that closes every HDF5 file itself (the ballagg binary), called before any
+// other HDF5 call: no library exit handler. HDF5 1.10 (Debian 12) frees a file whose close
+// failed (a full disk: the last flush fails) but keeps its ID, and its exit handler then
+// crashes on it (HDFFV-11052, fixed in HDF5 1.14.1): after a failed write the program
+// would end with a segmentation fault instead of its one-line error.
+void no_library_exit_handler();
+
+// Throws std::runtime_error("what: HDF5 error") when status < 0 (and clears HDF5's error
+// stack of the thread); returns status.
 hid_t check(hid_t status, const std::string& what);
 
 Handle create_group(hid_t parent, const std::string& name);

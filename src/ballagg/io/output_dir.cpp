@@ -6,11 +6,11 @@
 #include <cstring>
 #include <ctime>
 #include <filesystem>
-#include <fstream>
 
 #include <fmt/format.h>
 
 #include "ballagg/config/config.hpp"
+#include "ballagg/io/atomic_file.hpp"
 
 namespace fs = std::filesystem;
 
@@ -54,23 +54,17 @@ std::string temporary_path_for(const std::string& path) {
 void rename_into_place(const std::string& temporary, const std::string& path) {
   std::error_code ec;
   fs::rename(temporary, path, ec);
-  if (ec) throw std::runtime_error(fmt::format("{}: cannot write: {}", path, ec.message()));
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(temporary, ignored);
+    throw_output_error(path, ec.value());
+  }
 }
 
 void write_file_atomically(const std::string& dir, const std::string& name, const std::string& content) {
-  const fs::path target = fs::path(dir) / name;
-  const fs::path temporary = temporary_path_for(target.string());
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(temporary, ec);
-      throw std::runtime_error(fmt::format("{}: cannot write (disk full?)", target.string()));
-    }
-  }
-  rename_into_place(temporary.string(), target.string());
+  AtomicFile file((fs::path(dir) / name).string());
+  file.write(content);
+  file.commit();
 }
 
 }  // namespace ballagg

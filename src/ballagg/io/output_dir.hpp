@@ -16,10 +16,11 @@ bool prepare_output_dir(const std::string& dir);
 // Where a file is written before it is renamed to `path`: .NAME.tmp in the same directory.
 std::string temporary_path_for(const std::string& path);
 
-// Renames the complete file `temporary` to `path`. Throws std::runtime_error naming `path`.
+// Renames the complete file `temporary` to `path` (for files written by a library: HDF5,
+// cairo). On failure removes `temporary` and throws OutputError naming `path`.
 void rename_into_place(const std::string& temporary, const std::string& path);
 
-// Writes `content` to dir/name atomically. Throws std::runtime_error on failure.
+// Writes `content` to dir/name atomically (AtomicFile). Throws OutputError on failure.
 void write_file_atomically(const std::string& dir, const std::string& name, const std::string& content);
 
 }  // namespace ballagg

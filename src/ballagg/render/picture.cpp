@@ -3,11 +3,11 @@
 #include <cairo-svg.h>
 
 #include <filesystem>
-#include <stdexcept>
 
 #include <fmt/format.h>
 
 #include "ballagg/io/output_dir.hpp"
+#include "ballagg/io/output_error.hpp"
 #include "ballagg/render/disc_picture.hpp"
 
 namespace ballagg {
@@ -35,7 +35,7 @@ void commit_file(cairo_status_t status, const std::string& temporary, const std:
   std::error_code ec;
   if (status != CAIRO_STATUS_SUCCESS) {
     std::filesystem::remove(temporary, ec);
-    throw std::runtime_error(fmt::format("{}: cannot write: {}", path, cairo_status_to_string(status)));
+    throw OutputError(fmt::format("{}: cannot write: {}", path, cairo_status_to_string(status)));
   }
   rename_into_place(temporary, path);
 }

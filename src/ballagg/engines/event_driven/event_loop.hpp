@@ -37,6 +37,11 @@ struct EventLoopState {
   std::int64_t last_collision_event = 0;  // events handled when the last collision was
 };
 
+// Reading the clock (stop.wall_seconds) and offering a checkpoint cost ~20 ns: doing it
+// every this many events keeps it invisible. A run stops within this many events of its
+// wall-clock limit.
+inline constexpr std::int64_t kEventsPerClockCheck = 256;
+
 // `Core` may also supply stop_reason() (criteria of its own), and, for checkpoints, loop()
 // (an EventLoopState) and save(): its whole state as bytes, taken between two events.
 template <int D, class Core>
@@ -44,8 +49,6 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
   using clock = std::chrono::steady_clock;
   const auto started = clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - started).count(); };
-  // Checking the clock costs ~20 ns; doing it every 256 events keeps it invisible.
-  constexpr std::int64_t kClockEvery = 256;
   // After this many events without a collision, check whether one is possible at all.
   const std::int64_t quiet_limit = 16 * static_cast<std::int64_t>(s.n_spheres()) + 4096;
 
@@ -62,7 +65,7 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
     if constexpr (requires { core.stop_reason(); }) {  // criteria only some engines know
       if (const std::optional<StopReason> r = core.stop_reason()) { result.reason = *r; break; }
     }
-    if (count.events % kClockEvery == 0) {
+    if (count.events % kEventsPerClockCheck == 0) {
       if (elapsed() >= stop.wall_seconds) { result.reason = StopReason::wall_seconds; break; }
       if constexpr (requires { core.save(); })
         if (observer.checkpoint_due()) observer.on_checkpoint(s, count, core.save());

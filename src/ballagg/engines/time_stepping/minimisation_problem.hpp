@@ -125,7 +125,8 @@ void for_each_neighbour_of_group(const ProblemContext<D>& ctx, const CollisionGr
                                  F&& f) {
   const State<D>& s = ctx.state;
   const QueriedClusters<D> queried(ctx, g, max_size);
-  for (const auto& [c, b] : queried.clusters) {
+  for (const auto& cluster_and_body : queried.clusters) {
+    const int c = cluster_and_body.first;  // not a structured binding: clang 14 cannot capture one in a lambda
     if (!queried(c)) continue;
     for (int i : s.clusters[c].members) {
       auto visit = [&](int j) {

@@ -1,0 +1,61 @@
+#include "ballagg/io/atomic_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <utility>
+
+#include "ballagg/io/output_dir.hpp"
+
+namespace ballagg {
+
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temporary_(temporary_path_for(path_)) {
+  fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd_ < 0) fail(errno);
+}
+
+AtomicFile::AtomicFile(std::string path, std::uint64_t size)
+    : path_(std::move(path)), temporary_(temporary_path_for(path_)), keep_(true) {
+  fd_ = ::open(temporary_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
+  if (fd_ < 0 || ::ftruncate(fd_, static_cast<off_t>(size)) != 0) fail(errno);
+}
+
+AtomicFile::~AtomicFile() {
+  if (fd_ >= 0) ::close(fd_);
+  if (!keep_ && !temporary_.empty()) std::remove(temporary_.c_str());
+}
+
+void AtomicFile::write(std::string_view bytes) {
+  for (std::size_t done = 0; done < bytes.size();) {
+    const ssize_t w = ::write(fd_, bytes.data() + done, bytes.size() - done);
+    if (w < 0 && errno == EINTR) continue;
+    if (w < 0) fail(errno);
+    if (w == 0) fail(ENOSPC);  // no progress and no error: a full device
+    done += static_cast<std::size_t>(w);
+  }
+}
+
+void AtomicFile::sync() {
+  if (::fsync(fd_) != 0) fail(errno);
+}
+
+void AtomicFile::commit() {
+  const int fd = std::exchange(fd_, -1);
+  // close() can be the first to report a write that did not reach the disk (NFS, quotas).
+  if (::close(fd) != 0) fail(errno);
+  if (std::rename(temporary_.c_str(), path_.c_str()) != 0) fail(errno);
+  temporary_.clear();  // it is the file now
+}
+
+void AtomicFile::fail(int error) {
+  if (fd_ >= 0) ::close(std::exchange(fd_, -1));
+  // A temporary file that a checkpoint refers to stays: a resumed run cuts it back to
+  // what the checkpoint saw. Any other is removed: nothing half-written is left.
+  if (!keep_) std::remove(temporary_.c_str());
+  temporary_.clear();
+  throw_output_error(path_, error);
+}
+
+}  // namespace ballagg

@@ -1,0 +1,96 @@
+// The same configuration and seed give byte-identical files on one OpenMP thread and on
+// two: every engine's run (final.csv, timeseries.csv, summary.json but for its wall-clock
+// fields, final.xyz, and the rigid-body engine's end-of-run analysis), `ballagg analyze`
+// and `ballagg verify`. Threads only share out work whose result does not depend on the
+// sharing: pair scans merged in a fixed order, independent per-group solves.
+#include <gtest/gtest.h>
+
+#include "ballagg/run/analyze_run.hpp"
+#include "ballagg/run/verify_run.hpp"
+#include "support.hpp"
+#include "thread_count.hpp"
+
+namespace ballagg {
+namespace {
+using testing::expect_same_files;
+using testing::files_of_run;
+using testing::on_one_and_two_threads;
+using testing::small_config;
+using testing::TempDir;
+
+// A run to one cluster (or `clusters`), with extra time-series rows. The parallel loops
+// start at a size (kParallelPairScanMin = 20000 spheres for the pair scans of the analysis
+// and verification, 4096 for the time-stepping engine's per-sphere loops): the larger
+// runs below pass it, in 2D to stay fast.
+Config run_config(EngineKind engine, int dimension, int n, Boundary boundary, int clusters = 1,
+                  double volume_fraction = 0.15) {
+  Config c = small_config(dimension, n, volume_fraction, boundary, 17);
+  c.engine.kind = engine;
+  c.stop.clusters = clusters;
+  c.output.timeseries_interval = 0.5;
+  return c;
+}
+
+void expect_run_files_independent_of_threads(const Config& c) {
+  const TempDir scratch;
+  const auto [one, two] = on_one_and_two_threads([&] { return files_of_run(c, scratch); });
+  EXPECT_TRUE(one.count("final.csv") && one.count("timeseries.csv") && one.count("summary.json"));
+  expect_same_files(one, two);
+}
+
+TEST(ThreadCount, EventDrivenRunFilesDoNotDependOnIt) {
+  expect_run_files_independent_of_threads(run_config(EngineKind::ed, 2, 400, Boundary::walls));
+  expect_run_files_independent_of_threads(run_config(EngineKind::ed, 3, 300, Boundary::periodic));
+}
+
+TEST(ThreadCount, NaiveEventDrivenRunFilesDoNotDependOnIt) {
+  expect_run_files_independent_of_threads(run_config(EngineKind::ed_naive, 2, 100, Boundary::periodic));
+  expect_run_files_independent_of_threads(run_config(EngineKind::ed_naive, 3, 80, Boundary::walls));
+}
+
+TEST(ThreadCount, RigidBodyRunFilesDoNotDependOnIt) {
+  // Rotating aggregates, and the analysis files written at the end of the run (on 20000
+  // discs: the pair scans run on threads).
+  Config c = run_config(EngineKind::rigid_body, 3, 150, Boundary::periodic, 10);
+  c.initial.velocities = InitialVelocities::gaussian;
+  expect_run_files_independent_of_threads(c);
+  Config walls = run_config(EngineKind::rigid_body, 2, 20000, Boundary::walls, 19000, 0.1);
+  walls.initial.velocities = InitialVelocities::gaussian;
+  expect_run_files_independent_of_threads(walls);
+}
+
+TEST(ThreadCount, TimeSteppingRunFilesDoNotDependOnIt) {
+  // The engine that uses threads most (cell lists, collision groups solved in parallel);
+  // test_time_stepping.cpp checks the final state of every cluster model.
+  expect_run_files_independent_of_threads(run_config(EngineKind::ts, 2, 300, Boundary::periodic, 30));
+  expect_run_files_independent_of_threads(run_config(EngineKind::ts, 2, 5000, Boundary::periodic, 4000, 0.02));
+}
+
+TEST(ThreadCount, AnalysisAndVerificationDoNotDependOnIt) {
+  // The pair scans (contacts, pair distribution, overlaps) run on threads from 20000
+  // spheres on: a state of 20000 discs in 10000 clusters.
+  const TempDir scratch;
+  RunOptions options;
+  options.out_dir = (scratch / "run").string();
+  options.quiet = true;
+  options.checkpoint_on_signals = false;
+  run_simulation(run_config(EngineKind::ed, 2, 20000, Boundary::periodic, 10000, 0.2), options);
+  const auto [one, two] = on_one_and_two_threads([&] {
+    analyze_run({options.out_dir, "", "", (scratch / "analysis").string()});
+    auto files = testing::reproducible_files(scratch / "analysis");
+    std::filesystem::remove_all(scratch / "analysis");
+    return files;
+  });
+  EXPECT_TRUE(one.count("analysis.json"));
+  expect_same_files(one, two);
+
+  const auto [verified_one, verified_two] = on_one_and_two_threads([&] { return verify_run(options.out_dir); });
+  EXPECT_GT(verified_one.checks, 0);
+  EXPECT_TRUE(verified_one.violations.empty());
+  EXPECT_EQ(verified_one.checks, verified_two.checks);
+  EXPECT_EQ(verified_one.violations, verified_two.violations);
+  EXPECT_EQ(verified_one.notes, verified_two.notes);
+}
+
+}  // namespace
+}  // namespace ballagg
