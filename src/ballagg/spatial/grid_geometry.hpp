@@ -111,16 +111,13 @@ class GridGeometry {
       }
     }
     const double keep = radius + 0.5 * std::sqrt(static_cast<double>(D)) * cell_size_;
-    const double dd = d.squaredNorm();
     std::array<int, D> x = lo;
     while (true) {
       Vec<D> centre;
       for (int k = 0; k < D; ++k) centre[k] = (x[k] + 0.5) * cell_size_;
-      const Vec<D> rel = centre - a;
-      const double t = dd > 0.0 ? std::clamp(rel.dot(d) / dd, 0.0, 1.0) : 0.0;
       bool on_wall = false;
       for (int k = 0; k < D; ++k) on_wall = on_wall || (!box_.periodic() && (x[k] == 0 || x[k] == per_side_ - 1));
-      if (!filter || on_wall || (rel - t * d).squaredNorm() <= keep * keep) {
+      if (!filter || on_wall || squared_distance_to_segment<D>(centre, a, d) <= keep * keep) {
         std::int64_t cell = 0;
         for (int k = D - 1; k >= 0; --k) cell = cell * per_side_ + ((x[k] % per_side_) + per_side_) % per_side_;
         f(cell);

@@ -18,6 +18,13 @@ struct SpherePair {
   double lambda;      // multiplier of its constraint (0: not set yet, (3.26) applies)
 };
 
+// The order of pairs (of anything with sphere ids i, j) by i, then j: lists of pairs are
+// sorted so that they do not depend on the order a search (or its threads) found them in.
+template <class Pair>
+bool pair_less(const Pair& a, const Pair& b) {
+  return a.i != b.i ? a.i < b.i : a.j < b.j;
+}
+
 // One connected group: the bodies (named by a cluster id) and the pairs of S that join them.
 struct CollisionGroup {
   std::vector<std::int32_t> bodies;  // sorted

@@ -15,10 +15,6 @@ constexpr double kFullScanFraction = 0.25;
 constexpr std::size_t kParallelQueries = 4096;
 
 template <class Pair>
-bool pair_less(const Pair& a, const Pair& b) {
-  return a.i != b.i ? a.i < b.i : a.j < b.j;
-}
-template <class Pair>
 bool pair_equal(const Pair& a, const Pair& b) {
   return a.i == b.i && a.j == b.j;
 }

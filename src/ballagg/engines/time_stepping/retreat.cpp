@@ -41,9 +41,7 @@ constexpr int kListedClusterSize = 64;
 // The distance from the origin to the segment from p to p + d.
 template <int D>
 double distance_to_segment(const Vec<D>& p, const Vec<D>& d) {
-  const double dd = d.squaredNorm();
-  const double t = dd > 0.0 ? std::clamp(-p.dot(d) / dd, 0.0, 1.0) : 0.0;
-  return (p + t * d).norm();
+  return std::sqrt(squared_distance_to_segment<D>(Vec<D>::Zero(), p, d));
 }
 
 // Where a cluster of the group starts its retreat: the bounding sphere of its spheres'
@@ -170,8 +168,7 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
   for (const Candidate& k : candidates)
     if (std::abs((k.base - theta * k.drift).norm() / k.sigma - 1.0) <= eps_c) out.contacts.push_back(k.pair);
   // In pair order, not in the order the searches above happened to find them.
-  std::sort(out.contacts.begin(), out.contacts.end(),
-            [](const SpherePair& a, const SpherePair& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; });
+  std::sort(out.contacts.begin(), out.contacts.end(), pair_less<SpherePair>);
   for (const auto& [c, b] : clusters)
     for (int i : s.clusters[c].members) {
       const Vec<D> shift = -ctx.step_shift[i] - theta * ctx.flight[c];

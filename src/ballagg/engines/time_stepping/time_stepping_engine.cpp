@@ -47,7 +47,6 @@ void sort_unique(std::vector<T>& v, Less less = {}) {
           v.end());
 }
 
-bool pair_less(const SpherePair& a, const SpherePair& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; }
 
 // One step of §3, as named stages: advect (steps 1-2), detect the overlaps (2a), resolve
 // them by the loop (3.1)-(3.2) (2b-2e), commit the new clusters and their velocities (3).
@@ -271,9 +270,9 @@ void TimeSteppingEngine<D>::bin(const State<D>& s) {
 // `queries` included: the retreats of a round come one after the other, each too small to
 // pay for a rebuild alone, but together they visit every displaced sphere
 // `queries_since_binning_` times, and once that costs more than a rebuild, the list is
-// rebuilt. So visiting displaced spheres never costs more than
-// about as much again as the rebuilds (at N = 10^6 the displaced list reached 13 000
-// spheres, each visited by every query, when the test was per retreat).
+// rebuilt. So the visits of displaced spheres cost at most about as much as the rebuilds
+// (kVisitsPerRebinnedSphere visits per sphere of a rebuild); at N = 10^6, when the test was
+// made per retreat, the displaced list reached 13 000 spheres, each visited by every query.
 template <int D>
 void TimeSteppingEngine<D>::rebin_if_cheaper(std::size_t queries) {
   queries_since_binning_ += queries;
@@ -493,7 +492,7 @@ std::vector<SpherePair> TimeSteppingEngine<D>::new_overlaps(const State<D>& s, s
   });
   std::vector<SpherePair> pairs;
   for (const auto& f : found) pairs.insert(pairs.end(), f.begin(), f.end());
-  sort_unique(pairs, pair_less);  // found from both ends when both moved
+  sort_unique(pairs, pair_less<SpherePair>);  // found from both ends when both moved
   return pairs;
 }
 
