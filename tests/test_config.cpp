@@ -545,6 +545,9 @@ TEST(Config, OutOfRangeValuesAreRejectedForEveryKeyWithARange) {
       {"ts", "bond_stretch", "0", "(0, 1]"},
       {"ts", "bond_stretch", "1.5", "(0, 1]"},
       {"ts", "stall_iterations", "-1", "from 0 (off) to 100000000"},
+      {"ts", "retreat_overlap", "0", "(0, 1]"},
+      {"ts", "retreat_overlap", "1.2", "(0, 1]"},
+      {"ts", "retreat_pairs", "0", "from 1 to 1000000000"},
   };
   for (const Case& c : cases) {
     const std::string m = error_of("[" + c.section + "]\n" + c.key + " = " + c.value + "\n");
@@ -613,7 +616,8 @@ TEST(Config, FilePositionsWithoutFileAreRejected) {
 TEST(Config, TsSectionIsReadAndWrittenBack) {
   const Config c = parse_config_text("[engine]\nkind = \"ts\"\n[ts]\nmodel = \"non-rigid\"\ndt_factor = 0.005\n"
                                      "dt_rule = \"adaptive\"\neps_c = 1e-4\nmax_iterations = 500\n"
-                                     "bond_stretch = 0.25\nstall_iterations = 400\n",
+                                     "bond_stretch = 0.25\nstall_iterations = 400\nretreat_overlap = 0.75\n"
+                                     "retreat_pairs = 12\n",
                                      "t");
   EXPECT_EQ(c.engine.kind, ballagg::EngineKind::ts);
   EXPECT_EQ(c.ts.model, ballagg::TsModel::non_rigid);
@@ -623,6 +627,8 @@ TEST(Config, TsSectionIsReadAndWrittenBack) {
   EXPECT_EQ(c.ts.daha.max_iterations, 500);
   EXPECT_DOUBLE_EQ(c.ts.bond_stretch, 0.25);
   EXPECT_EQ(c.ts.daha.stall_iterations, 400);
+  EXPECT_DOUBLE_EQ(c.ts.retreat_overlap, 0.75);
+  EXPECT_EQ(c.ts.retreat_pairs, 12);
   const Config back = parse_config_text(ballagg::to_toml_text(c), "back");
   EXPECT_EQ(ballagg::to_toml_text(back), ballagg::to_toml_text(c));
   EXPECT_CONTAINS(ballagg::to_toml_text(c), "[ts]\nmodel = \"non-rigid\"");

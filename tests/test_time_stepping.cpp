@@ -284,6 +284,74 @@ TEST(TimeSteppingFallback, UnsolvedPairIsMovedBackToItsContactAlongItsFlight) {
   EXPECT_EQ(s.velocity(0), vec<2>(0, 0));
 }
 
+TEST(TimeSteppingFallback, ASphereFlownThroughAnotherIsRetreatedWithoutAMinimisation) {
+  // The head-on pair of the test above overlaps by 1 - d / sigma = 0.8 after the first
+  // step. With retreat_overlap below that, the group goes to the fall-back at once: no
+  // DAHA iteration, and the same event-driven answer. With retreat_overlap above it the
+  // minimiser is tried first (and here solves the pair).
+  auto run = [](double retreat_overlap) {
+    State<2> s = make_state<2>(10, Boundary::walls, {{vec<2>(4, 5), vec<2>(1, 0)}, {vec<2>(6, 5), vec<2>(-1, 0)}});
+    TimeSteppingSettings ts = settings(TsModel::rigid, 0.09);
+    ts.dt_growth = 1.0;
+    ts.retreat_overlap = retreat_overlap;
+    const RunResult r = run_ts(s, ts, until(0.9));
+    EXPECT_EQ(s.n_clusters(), 1);
+    return std::make_pair(r, s.position(0, s.time)[0]);
+  };
+  const auto [direct, x_direct] = run(0.75);
+  EXPECT_EQ(direct.counters.placed_at_contact, 1);
+  EXPECT_EQ(direct.counters.daha_iterations, 0);
+  EXPECT_NEAR(x_direct, 4.5, 0.5 * TimeSteppingSettings{}.daha.eps_c);
+  const auto [tried, x_tried] = run(0.85);
+  EXPECT_GT(tried.counters.daha_iterations, 0);
+}
+
+TEST(TimeSteppingFallback, GroupsOfManyPairsAreRetreatedWithoutAMinimisation) {
+  // retreat_pairs = 1: every group goes to the fall-back, and the run is the event-driven
+  // one, step by step: nothing is minimised, every overlap resolved.
+  Config c = testing::small_config(2, 300, 0.3, Boundary::walls, 8);
+  State<2> s = make_initial_state<2>(c);
+  TimeSteppingSettings ts = settings(TsModel::rigid);
+  ts.retreat_pairs = 1;
+  const RunResult r = run_ts(s, ts, until(1e9, 30));
+  EXPECT_EQ(r.counters.daha_iterations, 0);
+  EXPECT_EQ(r.counters.minimisations, r.counters.placed_at_contact);
+  EXPECT_GT(r.counters.placed_at_contact, 100);
+  EXPECT_LE(r.counters.max_residual_overlap, ts.daha.eps_c);
+}
+
+// The largest relative overlap between spheres of different clusters.
+template <int D>
+double worst_overlap_between_clusters(const State<D>& s) {
+  double worst = -1.0;
+  for (int i = 0; i < s.n_spheres(); ++i)
+    for (int j = i + 1; j < s.n_spheres(); ++j)
+      if (s.spheres.cluster[i] != s.spheres.cluster[j])
+        worst = std::max(worst, 1.0 - distance(s, i, j) / (s.spheres.radius[i] + s.spheres.radius[j]));
+  return worst;
+}
+
+TEST(TimeSteppingLoop, OverlapsLeftWhenTheLoopGivesUpStick) {
+  // One round per step and long flights: the loop gives up at every step with collisions,
+  // its groups retreated one after the other, and some retreats end where others' solutions
+  // have moved spheres. The overlaps left then stick: after every step no two clusters
+  // overlap beyond eps_c (before the rule such overlaps outlived the step and their groups
+  // came back, unsolvable, at every step). What stuck shows in max_residual_overlap.
+  Config c = testing::small_config(2, 400, 0.3, Boundary::walls, 9);
+  State<2> s = make_initial_state<2>(c);
+  TimeSteppingSettings ts = settings(TsModel::rigid, 0.05);
+  ts.max_link_rounds = 1;
+  Recorder<2> rec;
+  double worst = -1.0;
+  rec.check = [&](const State<2>& st, const EventRecord&) { worst = std::max(worst, worst_overlap_between_clusters(st)); };
+  // To 40 clusters by t = 18.7 in 10 steps; without the rule the run was still short of
+  // 40 clusters at t = 200, with clusters overlapping by 0.96.
+  const RunResult r = run_ts(s, ts, until(200, 40), &rec);
+  EXPECT_EQ(r.reason, StopReason::clusters);
+  EXPECT_GT(r.counters.rounds_exhausted, 0);
+  EXPECT_LE(worst, ts.daha.eps_c);
+}
+
 TEST(TimeSteppingGuards, MinimisationDoesNotPushASphereIntoItsNeighbour) {
   // A fast disc hits a disc at rest from the left; a third disc sits just right of the one
   // at rest, 0.05 away. Pushed apart blindly (the paper's minimisation constrains only S),

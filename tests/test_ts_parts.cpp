@@ -15,6 +15,7 @@
 #include "ballagg/engines/time_stepping/daha.hpp"
 #include "ballagg/engines/time_stepping/near_pairs.hpp"
 #include "ballagg/engines/time_stepping/step_bodies.hpp"
+#include "ballagg/spatial/movable_cell_list.hpp"
 
 namespace ballagg {
 namespace {
@@ -134,6 +135,64 @@ TEST(SortedCellList, SegmentQueryFindsEveryPointNearTheSegment) {
   segment_query_finds_every_point_near_the_segment<2>(Boundary::periodic);
   segment_query_finds_every_point_near_the_segment<3>(Boundary::walls);
   segment_query_finds_every_point_near_the_segment<3>(Boundary::periodic);
+}
+
+// MovableCellList: after a build and then moves of single items (some far, some several
+// times, some back to their first cell), every query finds each item whose current place
+// is within reach exactly once, as a brute force over the current places does, and a
+// rebuild forgets the moves.
+template <int D>
+void moved_items_are_found_where_they_are(Boundary boundary) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double length = 15.0;
+  const Box<D> box{length, boundary};
+  auto random_point = [&] {
+    Vec<D> p;
+    for (int a = 0; a < D; ++a) p[a] = length * unit(rng);
+    return p;
+  };
+  std::vector<Vec<D>> points(1200);
+  for (Vec<D>& p : points) p = random_point();
+  MovableCellList<D> cells(box, 0.7, static_cast<int>(points.size()));
+  cells.build(points);
+  auto check = [&](int trial) {
+    const Vec<D> p = random_point();
+    Vec<D> d;
+    for (int a = 0; a < D; ++a) d[a] = 4.0 * (unit(rng) - 0.5);
+    const double radius = 0.2 + 1.5 * unit(rng);
+    std::set<int> near, within, along;
+    cells.for_each_near(p, [&](int i) { EXPECT_TRUE(near.insert(i).second) << "near: item " << i << " twice"; });
+    cells.for_each_within(p, radius, [&](int i) { EXPECT_TRUE(within.insert(i).second) << "within: " << i << " twice"; });
+    cells.for_each_near_segment(p, d, radius, [&](int i) { EXPECT_TRUE(along.insert(i).second) << "segment: " << i << " twice"; });
+    for (int i = 0; i < static_cast<int>(points.size()); ++i) {
+      const double r = box.separation(points[i], p).norm();
+      if (r < cells.cell_size()) EXPECT_TRUE(near.count(i)) << "near: item " << i << " missed, trial " << trial;
+      if (r < radius) EXPECT_TRUE(within.count(i)) << "within: item " << i << " missed, trial " << trial;
+      if (distance_to_segment(box, points[i], p, d) < radius)
+        EXPECT_TRUE(along.count(i)) << "segment: item " << i << " missed, trial " << trial;
+    }
+  };
+  for (int round = 0; round < 40; ++round) {
+    for (int k = 0; k < 25; ++k) {
+      const int i = static_cast<int>(rng() % points.size());
+      const Vec<D> before = points[i];
+      points[i] = k % 5 == 0 ? before : random_point();  // some stay in the cell they moved to
+      cells.move(i, points[i]);
+    }
+    check(round);
+  }
+  EXPECT_GT(cells.n_moved(), 500u);
+  cells.build(points);
+  EXPECT_EQ(cells.n_moved(), 0u);
+  for (int trial = 0; trial < 20; ++trial) check(100 + trial);
+}
+
+TEST(MovableCellList, MovedItemsAreFoundWhereTheyAreAndOnlyThere) {
+  moved_items_are_found_where_they_are<2>(Boundary::walls);
+  moved_items_are_found_where_they_are<2>(Boundary::periodic);
+  moved_items_are_found_where_they_are<3>(Boundary::walls);
+  moved_items_are_found_where_they_are<3>(Boundary::periodic);
 }
 
 TEST(PairIndex, FindsEveryPairInEitherOrderAndForgetsThemWhenCleared) {

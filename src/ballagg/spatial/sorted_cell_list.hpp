@@ -26,6 +26,7 @@ class SortedCellList {
   }
 
   double cell_size() const { return grid_.cell_size(); }
+  const GridGeometry<D>& grid() const { return grid_; }
   // Item ids in cell order ("slots"): iterating in this order visits neighbours close in
   // memory. sorted_position(slot) is the binned position of the item in that slot.
   const std::vector<std::int32_t>& order() const { return order_; }
@@ -78,6 +79,12 @@ class SortedCellList {
     grid_.for_each_cell_pair(first, last, [&](std::int64_t a, std::int64_t b) {
       if (start_[a] != start_[a + 1] && start_[b] != start_[b + 1]) f(a, b);
     });
+  }
+
+  // Calls f(id) for every item binned in cell c.
+  template <class F>
+  void for_each_in_cell(std::int64_t c, F&& f) const {
+    for (std::int32_t s = start_[c]; s < start_[c + 1]; ++s) f(order_[s]);
   }
 
   // Calls f(id) for every item binned in a cell that holds points within radius of p.

@@ -58,6 +58,7 @@ void add_guards(const ProblemContext<D>& ctx, const CollisionGroup& g, int fixed
                 std::vector<SpherePair>& sphere_pairs) {
   const State<D>& s = ctx.state;
   const double gap = kGuardGap * 2.0 * s.max_radius();
+  const std::size_t first = prob.pairs.size();
   for_each_neighbour_of_group(ctx, g, 2.0 * s.max_radius() + gap, kSmallClusterSize, [&](int i, int j, int bj) {
     const int bi = body_index(ctx, g, i);
     if (bi == bj || ctx.S.contains(i, j)) return;  // one body: rigidly linked
@@ -69,6 +70,20 @@ void add_guards(const ProblemContext<D>& ctx, const CollisionGroup& g, int fixed
     prob.pairs.push_back(q);
     sphere_pairs.push_back({std::min(i, j), std::max(i, j), 0.0});
   });
+  // In pair order, not in the order the cell list happened to visit them (the sums of the
+  // minimisation would otherwise depend on how spheres were binned).
+  std::vector<std::size_t> order(prob.pairs.size() - first);
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = first + k;
+  std::sort(order.begin(), order.end(),
+            [&](std::size_t a, std::size_t b) { return pair_less(sphere_pairs[a], sphere_pairs[b]); });
+  std::vector<DahaPair<D>> guards;
+  std::vector<SpherePair> guarded;
+  for (std::size_t k : order) {
+    guards.push_back(prob.pairs[k]);
+    guarded.push_back(sphere_pairs[k]);
+  }
+  std::copy(guards.begin(), guards.end(), prob.pairs.begin() + first);
+  std::copy(guarded.begin(), guarded.end(), sphere_pairs.begin() + first);
 }
 
 // The pairs that touch (|d / sigma - 1| <= eps_c) at the solution u.
@@ -112,6 +127,7 @@ GroupSolution<D> solve_rigid(const ProblemContext<D>& ctx, const CollisionGroup&
   std::vector<Vec<D>> u;
   if (ctx.sink) ctx.sink->record(prob);
   out.result = minimise(prob, ctx.settings.daha, u);
+
   out.n_variables = static_cast<int>(g.bodies.size());
   out.contacts = touching_pairs(prob, sphere_pairs, u, ctx.settings.daha.eps_c);
   for (const auto& [c, b] : clusters) {

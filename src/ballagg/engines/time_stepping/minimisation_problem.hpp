@@ -21,10 +21,9 @@
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/time_stepping/adhesive_links.hpp"
 #include "ballagg/engines/time_stepping/adhesive_set.hpp"
-#include "ballagg/engines/time_stepping/displaced_spheres.hpp"
 #include "ballagg/engines/time_stepping/daha.hpp"
 #include "ballagg/engines/time_stepping/step_bodies.hpp"
-#include "ballagg/spatial/sorted_cell_list.hpp"
+#include "ballagg/spatial/movable_cell_list.hpp"
 
 namespace ballagg {
 
@@ -49,9 +48,8 @@ struct ProblemContext {
   const std::vector<Vec<D>>& step_shift; // per sphere: how far this step's minimisations moved it
   const std::vector<Vec<D>>& flight;     // per cluster: how far this step's free flight moved it
   const StepBodies& bodies;              // the clusters of the step joined by its links
-  const SortedCellList<D>& cells;        // every sphere, binned at most cell_slack from `positions`
-  double cell_slack;                     //   except the displaced ones
-  const DisplacedSpheres& displaced;
+  const MovableCellList<D>& cells;       // every sphere, binned at most cell_slack from `positions`
+  double cell_slack;
   const AdhesiveSet& S;
   const AdhesiveLinks& links;
   const TimeSteppingSettings& settings;
@@ -107,13 +105,6 @@ struct QueriedClusters {
     const int size = s.clusters[c].size();
     return size <= max_size && (c != largest || size <= kSmallClusterSize);
   }
-  // The spheres queried: the cost of the queries.
-  std::size_t spheres() const {
-    std::size_t n = 0;
-    for (const auto& [c, b] : clusters)
-      if ((*this)(c)) n += s.clusters[c].size();
-    return n;
-  }
   const State<D>& s;
   std::vector<std::pair<std::int32_t, std::int32_t>> clusters;  // (cluster, body index) of the group
   int largest;
@@ -136,14 +127,8 @@ void for_each_neighbour_of_group(const ProblemContext<D>& ctx, const CollisionGr
         if (bj >= 0 && queried(cj) && j < i) return;
         f(i, j, bj);
       };
-      // The cell list holds positions up to cell_slack from the current ones, but for the
-      // displaced spheres, visited apart.
-      ctx.cells.for_each_within(ctx.positions[i], reach + ctx.cell_slack, [&](int j) {
-        if (!ctx.displaced.contains(j)) visit(j);
-      });
-      // Displaced spheres are at their exact places: the far ones are dropped at once.
-      for (int j : ctx.displaced.list())
-        if (s.box.separation(ctx.positions[i], ctx.positions[j]).squaredNorm() <= reach * reach) visit(j);
+      // The cell list holds positions up to cell_slack from the current ones.
+      ctx.cells.for_each_within(ctx.positions[i], reach + ctx.cell_slack, visit);
     }
   }
 }

@@ -50,6 +50,7 @@ template <int D>
 struct RetreatStart {
   Vec<D> centre;
   double radius;
+  double longest_shift;  // of its spheres by this step's minimisations
 };
 
 template <int D>
@@ -64,9 +65,12 @@ std::vector<RetreatStart<D>> retreat_starts(const ProblemContext<D>& ctx,
     Vec<D> sum = Vec<D>::Zero();  // of the separations from the first sphere (periodic images)
     for (int i : members) sum += s.box.separation(start(i), first);
     const Vec<D> centre = first + sum / static_cast<double>(members.size());
-    double radius = 0.0;
-    for (int i : members) radius = std::max(radius, s.box.separation(start(i), centre).norm());
-    out.push_back({centre, radius});
+    double radius = 0.0, longest_shift = 0.0;
+    for (int i : members) {
+      radius = std::max(radius, s.box.separation(start(i), centre).norm());
+      longest_shift = std::max(longest_shift, ctx.step_shift[i].norm());
+    }
+    out.push_back({centre, radius, longest_shift});
   }
   return out;
 }
@@ -75,9 +79,6 @@ template <int D>
 GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionGroup& g) {
   const State<D>& s = ctx.state;
   const auto clusters = clusters_of_group(ctx, g);
-  double longest_shift = 0.0;
-  for (const auto& [c, b] : clusters)
-    for (int i : s.clusters[c].members) longest_shift = std::max(longest_shift, ctx.step_shift[i].norm());
   const double tolerance = retreat_tolerance(ctx.settings.daha);
 
   struct Candidate {
@@ -114,14 +115,25 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
   const QueriedClusters<D> queried(ctx, g, std::numeric_limits<int>::max());
   const double contact_reach = 2.0 * s.max_radius() * (1.0 + ctx.settings.daha.eps_c);
   const std::vector<RetreatStart<D>> starts = retreat_starts(ctx, clusters);
+  // The clusters of the group that cluster k can meet: their bounding spheres come within
+  // a contact distance along the relative flight. Tested per cluster pair first, since a
+  // large group is a chain of clusters most of which are far from each other.
+  auto can_meet = [&](std::size_t k, std::size_t m) {
+    const Vec<D> relative_flight = ctx.flight[clusters[k].first] - ctx.flight[clusters[m].first];
+    const Vec<D> between = s.box.separation(starts[k].centre, starts[m].centre);
+    return distance_to_segment<D>(between, -relative_flight) <= starts[k].radius + starts[m].radius + contact_reach;
+  };
+  std::vector<std::size_t> partners;
   for (std::size_t k = 0; k < clusters.size(); ++k) {
     const int c = clusters[k].first;
     if (!queried(c)) continue;
+    partners.clear();
+    for (std::size_t m = 0; m < clusters.size(); ++m)
+      if (m != k && can_meet(k, m)) partners.push_back(m);
     for (int i : s.clusters[c].members) {
       const Vec<D> start = ctx.positions[i] - ctx.step_shift[i];
-      for (std::size_t m = 0; m < clusters.size(); ++m) {
+      for (std::size_t m : partners) {
         const auto [other, other_body] = clusters[m];
-        if (other == c) continue;
         const Vec<D> relative_flight = ctx.flight[c] - ctx.flight[other];
         const Vec<D> to_centre = s.box.separation(start, starts[m].centre);
         if (distance_to_segment<D>(to_centre, -relative_flight) > starts[m].radius + contact_reach) continue;
@@ -132,32 +144,22 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
           for (int j : s.clusters[other].members) member(j);
           continue;
         }
-        // The spheres of o are where the step's minimisations moved them, up to
+        // The spheres of o are where the step's minimisations moved them, up to its
         // longest_shift from their start.
         auto in_other = [&](int j) {
           if (s.spheres.cluster[j] == other) member(j);
         };
-        ctx.cells.for_each_near_segment(start, Vec<D>(-relative_flight), contact_reach + longest_shift + ctx.cell_slack,
-                                        [&](int j) {
-                                          if (!ctx.displaced.contains(j)) in_other(j);
-                                        });
-        for (int j : ctx.displaced.list())
-          if (s.spheres.cluster[j] == other) member(j);
+        ctx.cells.for_each_near_segment(start, Vec<D>(-relative_flight), contact_reach + starts[m].longest_shift + ctx.cell_slack,
+                                        in_other);
       }
       auto outside = [&](int j) {
         if (s.spheres.cluster[j] != c && body_index(ctx, g, j) < 0) consider(i, j, -1);
       };
-      ctx.cells.for_each_near_segment(start, Vec<D>(-ctx.flight[c]), contact_reach + ctx.cell_slack, [&](int j) {
-        if (!ctx.displaced.contains(j)) outside(j);
-      });
-      // Displaced spheres are at their exact places: those far from the path are dropped
-      // before the (dearer) look-up of their body.
-      for (int j : ctx.displaced.list())
-        if (distance_to_segment<D>(s.box.separation(start, ctx.positions[j]), -ctx.flight[c]) <= contact_reach)
-          outside(j);
+      ctx.cells.for_each_near_segment(start, Vec<D>(-ctx.flight[c]), contact_reach + ctx.cell_slack, outside);
     }
   }
   const double theta = std::min(1.0, first_free(bad));
+
 
   GroupSolution<D> out;
   out.placed_at_contact = true;

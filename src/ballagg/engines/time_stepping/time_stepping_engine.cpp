@@ -16,7 +16,7 @@
 #include "ballagg/engines/time_stepping/step_bodies.hpp"
 #include "ballagg/engines/time_stepping/time_step_rule.hpp"
 #include "ballagg/engines/time_stepping/walls.hpp"
-#include "ballagg/spatial/sorted_cell_list.hpp"
+#include "ballagg/spatial/movable_cell_list.hpp"
 #include "ballagg/io/byte_stream.hpp"
 
 namespace ballagg {
@@ -30,9 +30,9 @@ constexpr double kGridMargin = 1.0;
 // through a wall back inside, and resolve the overlaps this creates.
 constexpr int kFinalWallSteps = 8;
 
-// What re-binning one sphere costs, in visits of a displaced sphere by a neighbour query
-// (a distance test): a rebuild computes a cell, counts, scatters and resets per sphere.
-constexpr std::size_t kVisitsPerRebinnedSphere = 16;
+// The cell list is rebuilt within a step once more than 1 / kMovedFractionForRebuild of
+// the spheres have been moved in it one by one (each move leaves a skipped slot behind).
+constexpr std::size_t kMovedFractionForRebuild = 8;
 
 // Pairs in one round above which its groups are solved on several threads.
 constexpr std::size_t kParallelPairs = 2000;
@@ -70,22 +70,24 @@ class TimeSteppingEngine final : public Engine<D> {
   void advect(State<D>& s, double dt);
   void bin(const State<D>& s);
   void rebin();
-  void rebin_if_cheaper(std::size_t queries);
-  const SortedCellList<D>& binned_cells();
+  const MovableCellList<D>& binned_cells();
   void detect_overlaps(const State<D>& s);
   void resolve(const State<D>& s);
   GroupSolution<D> repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
+  bool beyond_minimisation(const State<D>& s, const CollisionGroup& group) const;
+  std::uint64_t round_signature() const;
   void apply(const GroupSolution<D>& solution, std::vector<int>& moved);
   std::vector<SpherePair> new_overlaps(const State<D>& s, std::vector<int>& moved) const;
   bool end_round(const State<D>& s, const std::vector<CollisionGroup>& groups,
                  const std::vector<GroupSolution<D>>& solutions, const std::vector<SpherePair>& overlaps);
+  void stick(const State<D>& s, const std::vector<SpherePair>& overlaps);
   int commit(State<D>& s);
   template <class F>
   void for_each_contact(const State<D>& s, const std::vector<int>& spheres, F&& f) const;
   double largest_overlap(const State<D>& s, std::vector<int>& spheres) const;
 
   ProblemContext<D> context(const State<D>& s) const {
-    return {s, positions_, step_shift_, flight_, bodies_, *cells_, cell_slack_, displaced_, S_, links_, settings_,
+    return {s, positions_, step_shift_, flight_, bodies_, *cells_, cell_slack_, S_, links_, settings_,
             length_scale_, delta_w_, mean_mass_, sink_};
   }
   bool rigid() const { return settings_.model == TsModel::rigid; }
@@ -99,11 +101,9 @@ class TimeSteppingEngine final : public Engine<D> {
   std::vector<Vec<D>> step_shift_;           // per sphere: its displacement by this step's minimisations
   std::vector<Vec<D>> moved_since_binning_;  // per sphere, for the staleness of the cell list
   std::vector<Vec<D>> flight_;               // per cluster: its displacement by this step's free flight
-  std::optional<SortedCellList<D>> cells_;
-  double cell_slack_ = 0.0;                  // how far a sphere may move before re-binning
-  DisplacedSpheres displaced_;               // the spheres that moved farther than that
+  std::optional<MovableCellList<D>> cells_;
+  double cell_slack_ = 0.0;                  // how far a sphere may move before it is re-binned
   bool cells_binned_ = false;                // the cell list holds this step's positions
-  std::size_t queries_since_binning_ = 0;    // neighbour queries made since (rebin_if_cheaper)
   AdhesiveSet S_;                            // the adhesive set of a round and its groups (of bodies)
   StepBodies bodies_;                        // the clusters of the step, joined by its links
   AdhesiveLinks links_;                      // per-sphere models: the links of the old clusters
@@ -193,7 +193,6 @@ void TimeSteppingEngine<D>::prepare(const State<D>& s) {
   moved_since_binning_.assign(n, Vec<D>::Zero());
   cells_.emplace(s.box, (2.0 + kGridMargin) * s.max_radius(), n);
   cell_slack_ = cells_->cell_size() - 2.0 * s.max_radius();
-  displaced_.reset(n);
   near_ = NearPairs<D>(n_cluster_ids, cell_slack_);
   S_ = AdhesiveSet(n_cluster_ids);
   bodies_ = StepBodies(n_cluster_ids);
@@ -265,22 +264,8 @@ void TimeSteppingEngine<D>::bin(const State<D>& s) {
   cells_binned_ = false;
 }
 
-// Rebuilds the cell list when the displaced spheres would cost the neighbour queries more
-// than a rebuild (O(N)). The queries are counted since the last rebuild, the coming
-// `queries` included: the retreats of a round come one after the other, each too small to
-// pay for a rebuild alone, but together they visit every displaced sphere
-// `queries_since_binning_` times, and once that costs more than a rebuild, the list is
-// rebuilt. So the visits of displaced spheres cost at most about as much as the rebuilds
-// (kVisitsPerRebinnedSphere visits per sphere of a rebuild); at N = 10^6, when the test was
-// made per retreat, the displaced list reached 13 000 spheres, each visited by every query.
 template <int D>
-void TimeSteppingEngine<D>::rebin_if_cheaper(std::size_t queries) {
-  queries_since_binning_ += queries;
-  if (queries_since_binning_ * displaced_.size() > kVisitsPerRebinnedSphere * positions_.size()) rebin();
-}
-
-template <int D>
-const SortedCellList<D>& TimeSteppingEngine<D>::binned_cells() {
+const MovableCellList<D>& TimeSteppingEngine<D>::binned_cells() {
   if (!cells_binned_) rebin();
   return *cells_;
 }
@@ -289,16 +274,14 @@ template <int D>
 void TimeSteppingEngine<D>::rebin() {
   cells_->build(positions_);
   cells_binned_ = true;
-  queries_since_binning_ = 0;
   std::fill(moved_since_binning_.begin(), moved_since_binning_.end(), Vec<D>::Zero());
-  displaced_.clear();
 }
 
 // Step 2a: S starts as the pairs of spheres of different clusters that overlap or touch
 // (phi >= 0) after the free flight, found among the near pairs (near_pairs.hpp).
 template <int D>
 void TimeSteppingEngine<D>::detect_overlaps(const State<D>& s) {
-  for (const SpherePair& p : near_.contacts(s, positions_, [this]() -> const SortedCellList<D>& { return binned_cells(); }))
+  for (const SpherePair& p : near_.contacts(s, positions_, [this]() -> const SortedCellList<D>& { return binned_cells().sorted(); }))
     S_.add(p.i, p.j, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
 }
 
@@ -313,22 +296,29 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
   if (S_.empty()) return;
   binned_cells();
   std::vector<int> moved;
+  std::vector<std::uint64_t> earlier_rounds;  // their signatures
   for (int round = 1;; ++round) {
     const std::vector<CollisionGroup> groups = S_.take_changed_groups();
     if (groups.empty()) break;
     if (round > 1) ++counters_.link_rounds;
-    const bool out_of_rounds = round >= settings_.max_link_rounds;
+    // A round with the adhesive set of an earlier round of this step would go on repeating
+    // the rounds since (a cycle: at N = 10^6 a few groups took turns, solved, retreated and
+    // solved again, until max_link_rounds): it ends the loop as the last round would.
+    const std::uint64_t signature = round_signature();
+    const bool repeats = std::find(earlier_rounds.begin(), earlier_rounds.end(), signature) != earlier_rounds.end();
+    earlier_rounds.push_back(signature);
+    const bool out_of_rounds = round >= settings_.max_link_rounds || repeats;
     if (out_of_rounds) ++counters_.rounds_exhausted;
     const ProblemContext<D> ctx = context(s);
     std::vector<GroupSolution<D>> solutions(groups.size());
     std::size_t work = 0;
     for (const CollisionGroup& g : groups) work += g.pairs.size();
-    rebin_if_cheaper(2 * work);
     // Threads pay off only when there is enough work to share (starting them costs more
     // than solving a few small groups).
     if (!out_of_rounds) {
 #pragma omp parallel for schedule(dynamic) if (groups.size() > 1 && work >= kParallelPairs)
-      for (std::size_t k = 0; k < groups.size(); ++k) solutions[k] = solve_group(ctx, groups[k]);
+      for (std::size_t k = 0; k < groups.size(); ++k)
+        if (!beyond_minimisation(s, groups[k])) solutions[k] = solve_group(ctx, groups[k]);
     }
     moved.clear();
     for (std::size_t k = 0; k < groups.size(); ++k)
@@ -337,8 +327,6 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
     // seeing where everything else has gone.
     for (std::size_t k = 0; k < groups.size(); ++k) {
       if (solutions[k].result.converged) continue;
-      // The retreat queries the neighbours of its clusters (retreat.cpp).
-      rebin_if_cheaper(QueriedClusters<D>(ctx, groups[k], std::numeric_limits<int>::max()).spheres());
       const int iterations = solutions[k].result.iterations;
       solutions[k] = repair(context(s), groups[k]);
       solutions[k].result.iterations += iterations;
@@ -348,20 +336,22 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
     if (out_of_rounds) {
       end_round(s, groups, solutions, {});
       S_.clear();
+      stick(s, new_overlaps(s, moved));
       break;
     }
+
     round_contacts_.clear();
     for (const GroupSolution<D>& g : solutions)
       for (const SpherePair& c : g.contacts) round_contacts_.insert(c.i, c.j, 0);
-    rebin_if_cheaper(moved.size());
     if (!end_round(s, groups, solutions, new_overlaps(s, moved))) {
-      ++counters_.rounds_exhausted;  // stalled: what is left overlapping waits for the next step
+      ++counters_.rounds_exhausted;  // stalled: what is left overlapping sticks
+      const std::vector<SpherePair> left = S_.pairs();
       S_.clear();
+      stick(s, left);
       break;
     }
   }
   // The largest overlap left around everything this step moved.
-  rebin_if_cheaper(moved_in_step_.size());
   counters_.max_residual_overlap = std::max(counters_.max_residual_overlap, largest_overlap(s, moved_in_step_));
 }
 
@@ -371,6 +361,35 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
 template <int D>
 GroupSolution<D> TimeSteppingEngine<D>::repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const {
   return place_at_contact(ctx, group);
+}
+
+// Whether a group is left to the fall-back without trying a minimisation: a pair of S
+// overlapping by retreat_overlap or more (centres nearly on top of each other: a sphere
+// flew through another, and no nearby configuration says from which side it came), or
+// retreat_pairs pairs of S or more (clusters flown deep into each other). At N = 10^6
+// late in a run such minimisations converged in 7 cases out of 927 and took 87 % of the
+// DAHA's work (docs/time_stepping.md).
+template <int D>
+bool TimeSteppingEngine<D>::beyond_minimisation(const State<D>& s, const CollisionGroup& g) const {
+  if (static_cast<int>(g.pairs.size()) >= settings_.retreat_pairs) return true;
+  for (int k : g.pairs) {
+    const SpherePair& p = S_.pairs()[k];
+    const double sigma = s.spheres.radius[p.i] + s.spheres.radius[p.j];
+    if (1.0 - s.box.separation(positions_[p.i], positions_[p.j]).norm() / sigma >= settings_.retreat_overlap) return true;
+  }
+  return false;
+}
+
+// A hash of the adhesive set of the round (its pairs, in order): equal for equal sets.
+template <int D>
+std::uint64_t TimeSteppingEngine<D>::round_signature() const {
+  std::uint64_t h = 14695981039346656037ull;  // FNV-1a
+  for (const SpherePair& p : S_.pairs())
+    for (std::int32_t id : {p.i, p.j}) {
+      h ^= static_cast<std::uint32_t>(id);
+      h *= 1099511628211ull;
+    }
+  return h;
 }
 
 // Moves the spheres of a solution in positions_ (the state is moved at commit).
@@ -387,9 +406,13 @@ void TimeSteppingEngine<D>::apply(const GroupSolution<D>& g, std::vector<int>& m
     positions_[i] = box.wrap(positions_[i] + g.shift[k]);
     step_shift_[i] += g.shift[k];
     moved_since_binning_[i] += g.shift[k];
-    if (moved_since_binning_[i].norm() > cell_slack_) displaced_.add(i);
+    if (moved_since_binning_[i].norm() > cell_slack_) {
+      cells_->move(i, positions_[i]);
+      moved_since_binning_[i].setZero();
+    }
     moved.push_back(i);
   }
+  if (cells_->n_moved() * kMovedFractionForRebuild > positions_.size()) rebin();
 }
 
 // The end of a round: the solutions' touching pairs become links (a retreat first
@@ -435,6 +458,20 @@ bool TimeSteppingEngine<D>::end_round(const State<D>& s, const std::vector<Colli
   return progress || S_.empty();
 }
 
+// When the loop gives up (out of rounds, a repeating round, a round that changes nothing),
+// the pairs still overlapping become links: their clusters merge where they are. Left
+// apart, such an overlap would outlive the step: at N = 10^6 pairs overlapping by 0.8 of
+// a diameter were left after the third step, and their groups came back at every later
+// step, where no minimisation solved them and no retreat (which goes back at most to the
+// start of the step) could separate them, so their clusters never merged and the run
+// stopped making progress. The overlap stays inside the merged cluster and shows in
+// max_residual_overlap.
+template <int D>
+void TimeSteppingEngine<D>::stick(const State<D>& s, const std::vector<SpherePair>& overlaps) {
+  for (const SpherePair& p : overlaps) bodies_.link(p, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
+
+}
+
 // Calls f(i, j, d, sigma) for every pair of a sphere of `spheres` (sorted, each once) and
 // another sphere with phi >= 0 (d <= sigma), spheres of one cluster excepted in the rigid
 // model (their distances never change). With several threads, calls for different i
@@ -454,10 +491,7 @@ void TimeSteppingEngine<D>::for_each_contact(const State<D>& s, const std::vecto
       const double d = s.box.separation(positions_[i], positions_[j]).norm();
       if (d <= sigma) f(i, j, d, sigma);
     };
-    cells_->for_each_near(positions_[i], [&](int j) {
-      if (!displaced_.contains(j)) visit(j);
-    });
-    for (int j : displaced_.list()) visit(j);
+    cells_->for_each_near(positions_[i], visit);
   }
 }
 
