@@ -167,10 +167,15 @@ void moved_items_are_found_where_they_are(Boundary boundary) {
     cells.for_each_near_segment(p, d, radius, [&](int i) { EXPECT_TRUE(along.insert(i).second) << "segment: " << i << " twice"; });
     for (int i = 0; i < static_cast<int>(points.size()); ++i) {
       const double r = box.separation(points[i], p).norm();
-      if (r < cells.cell_size()) EXPECT_TRUE(near.count(i)) << "near: item " << i << " missed, trial " << trial;
-      if (r < radius) EXPECT_TRUE(within.count(i)) << "within: item " << i << " missed, trial " << trial;
-      if (distance_to_segment(box, points[i], p, d) < radius)
+      if (r < cells.cell_size()) {
+        EXPECT_TRUE(near.count(i)) << "near: item " << i << " missed, trial " << trial;
+      }
+      if (r < radius) {
+        EXPECT_TRUE(within.count(i)) << "within: item " << i << " missed, trial " << trial;
+      }
+      if (distance_to_segment(box, points[i], p, d) < radius) {
         EXPECT_TRUE(along.count(i)) << "segment: item " << i << " missed, trial " << trial;
+      }
     }
   };
   for (int round = 0; round < 40; ++round) {
