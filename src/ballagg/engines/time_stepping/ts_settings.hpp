@@ -51,8 +51,8 @@ struct TimeSteppingSettings {
   // no further; what keeps an old cluster from drifting apart.
   double bond_stretch = 0.1;
   int max_link_rounds = 50;    // repetitions of (3.1)-(3.2) within one step before giving up
-  // A group is moved back along its flight at once (the fall-back, retreat.hpp), without a
-  // minimisation, when it has at least retreat_pairs pairs of S (clusters flown deep into
+  // Rigid model: a group is moved back along its flight at once (the fall-back,
+  // retreat.hpp), without a minimisation, when it has at least retreat_pairs pairs of S (clusters flown deep into
   // each other) or when a pair of S overlaps by at least retreat_overlap (1 - d / (R_i +
   // R_j): a sphere flew through another). Measured at N = 10^6 (docs/time_stepping.md):
   // such minimisations almost never converge there and were most of the run's cost. The
