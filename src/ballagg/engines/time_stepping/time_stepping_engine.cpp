@@ -304,7 +304,8 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
     if (round > 1) ++counters_.link_rounds;
     // A round with the adhesive set of an earlier round of this step would go on repeating
     // the rounds since (a cycle: at N = 10^6 a few groups took turns, solved, retreated and
-    // solved again, until max_link_rounds): it ends the loop as the last round would.
+    // solved again, with a period of six rounds until max_link_rounds): it ends the loop as
+    // the last round would.
     const std::uint64_t signature = round_signature();
     const bool repeats = std::find(earlier_rounds.begin(), earlier_rounds.end(), signature) != earlier_rounds.end();
     earlier_rounds.push_back(signature);
