@@ -133,7 +133,8 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
     for (int i : s.clusters[c].members) {
       const Vec<D> start = ctx.positions[i] - ctx.step_shift[i];
       for (std::size_t m : partners) {
-        const auto [other, other_body] = clusters[m];
+        // Not a structured binding: clang 14 cannot capture one in a lambda.
+        const int other = clusters[m].first, other_body = clusters[m].second;
         const Vec<D> relative_flight = ctx.flight[c] - ctx.flight[other];
         const Vec<D> to_centre = s.box.separation(start, starts[m].centre);
         if (distance_to_segment<D>(to_centre, -relative_flight) > starts[m].radius + contact_reach) continue;
