@@ -11,8 +11,6 @@ namespace {
 // Above this fraction of the spheres in stale clusters, the whole box is scanned (a half
 // stencil over cells, cheaper per sphere than a query per sphere).
 constexpr double kFullScanFraction = 0.25;
-// Stale spheres above which their queries run on several threads.
-constexpr std::size_t kParallelQueries = 4096;
 
 template <class Pair>
 bool pair_equal(const Pair& a, const Pair& b) {
@@ -85,7 +83,7 @@ void NearPairs<D>::scan_all(const State<D>& s, const SortedCellList<D>& cells) {
   const int n = static_cast<int>(order.size());
   // Cluster ids in slot order, so that the scan below reads contiguous memory only.
   std::vector<std::int32_t> cluster_of_slot(n);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelLoopMin)
   for (int k = 0; k < n; ++k) cluster_of_slot[k] = s.spheres.cluster[order[k]];
   const double reach = 2.0 * s.max_radius() + skin_;  // exact test below when radii differ
   std::vector<std::vector<Pair>> found(max_threads());
@@ -99,7 +97,7 @@ void NearPairs<D>::scan_all(const State<D>& s, const SortedCellList<D>& cells) {
     if (d2 <= near * near) out.push_back({std::min(i, j), std::max(i, j)});
   };
   if (!cells.cell_pairs_are_distinct()) {  // tiny periodic box: per sphere, each pair once
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelLoopMin)
     for (int k = 0; k < n; ++k)
       cells.for_each_slot_near(cells.sorted_position(k), [&](std::int32_t m) {
         if (m > k) test(k, m, found[thread_index()]);
@@ -110,7 +108,7 @@ void NearPairs<D>::scan_all(const State<D>& s, const SortedCellList<D>& cells) {
     // big aggregate costs one comparison per cell pair.
     const std::int64_t n_cells = cells.n_cells();
     std::vector<std::int32_t> sole(n_cells, -1);  // per cell: its only cluster, or -1
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelLoopMin)
     for (std::int64_t c = 0; c < n_cells; ++c) {
       const std::int32_t first = cells.first_slot(c), last = cells.first_slot(c + 1);
       if (first == last) continue;
@@ -120,7 +118,7 @@ void NearPairs<D>::scan_all(const State<D>& s, const SortedCellList<D>& cells) {
       sole[c] = id;
     }
     const int chunks = 8 * max_threads();
-#pragma omp parallel for schedule(dynamic)
+#pragma omp parallel for schedule(dynamic) if (n >= kParallelLoopMin)
     for (int chunk = 0; chunk < chunks; ++chunk) {
       std::vector<Pair>& mine = found[thread_index()];
       cells.for_each_cell_pair(n_cells * chunk / chunks, n_cells * (chunk + 1) / chunks,
@@ -149,7 +147,7 @@ void NearPairs<D>::refresh(const State<D>& s, const SortedCellList<D>& cells, co
   });
   std::vector<std::vector<Pair>> found(max_threads());
   const std::int64_t n = static_cast<std::int64_t>(stale_spheres.size());
-#pragma omp parallel for schedule(dynamic, 256) if (stale_spheres.size() >= kParallelQueries)
+#pragma omp parallel for schedule(dynamic, 256) if (static_cast<std::int64_t>(stale_spheres.size()) >= kParallelLoopMin)
   for (std::int64_t k = 0; k < n; ++k) {
     const int i = stale_spheres[k];
     const int ci = s.spheres.cluster[i];

@@ -37,8 +37,6 @@ constexpr std::size_t kMovedFractionForRebuild = 8;
 
 // Pairs in one round above which its groups are solved on several threads.
 constexpr std::size_t kParallelPairs = 2000;
-// Spheres to check for new contacts above which the search runs on several threads.
-constexpr std::size_t kParallelSpheres = 4096;
 
 // Sorts and removes repeats.
 template <class T, class Less = std::less<T>>
@@ -262,7 +260,7 @@ void TimeSteppingEngine<D>::advect(State<D>& s, double dt) {
 template <int D>
 void TimeSteppingEngine<D>::bin(const State<D>& s) {
   const int n = s.n_spheres();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (n >= kParallelLoopMin)
   for (int i = 0; i < n; ++i) positions_[i] = s.position(i, s.time);
   cells_binned_ = false;
 }
@@ -553,7 +551,7 @@ template <class F>
 void TimeSteppingEngine<D>::for_each_contact(const State<D>& s, const std::vector<int>& spheres, F&& f) const {
   const bool same_cluster_fixed = rigid();
   const std::int64_t n = static_cast<std::int64_t>(spheres.size());
-#pragma omp parallel for schedule(dynamic, 256) if (n >= static_cast<std::int64_t>(kParallelSpheres))
+#pragma omp parallel for schedule(dynamic, 256) if (n >= kParallelLoopMin)
   for (std::int64_t k = 0; k < n; ++k) {
     const int i = spheres[k];
     const int ci = s.spheres.cluster[i];
