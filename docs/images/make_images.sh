@@ -24,6 +24,14 @@ $B render "$W/agg3d" --png docs/images/ed_3d_aggregate.png --pov "$W/aggregate.p
 povray +W640 +H640 +A0.3 -D -V +O"docs/images/ed_3d_aggregate_povray.png" "$W/aggregate.pov" 2>/dev/null
 $B render "$W/rb" --aggregate 1 --png docs/images/rigid_body_aggregate.png --pov "$W/rb.pov" --width 640
 povray +W640 +H640 +A0.3 -D -V +O"docs/images/rigid_body_aggregate_povray.png" "$W/rb.pov" 2>/dev/null
+# ParaView (optional: Debian's paraview, python3-paraview and xvfb): examples/paraview/
+# view_run.py on a 2D run's trajectory, frame 8 (t = 16).
+if command -v pvpython >/dev/null && command -v xvfb-run >/dev/null; then
+  $B run -q --out "$W/pv2d" --set system.n=2000 --set system.boundary=periodic \
+    --set output.snapshot_every=2 --set stop.clusters=20 --seed 2
+  xvfb-run -a -s "-screen 0 1024x768x24" pvpython examples/paraview/view_run.py "$W/pv2d" --frame 8 \
+    --screenshot docs/images/paraview_2d.png --width 640
+fi
 for f in docs/images/*.png; do
   /usr/bin/python3 -c "import sys; from PIL import Image
 Image.open(sys.argv[1]).convert('RGB').quantize(256, method=Image.Quantize.MEDIANCUT, dither=Image.Dither.NONE).save(sys.argv[1], optimize=True)" "$f"
