@@ -509,9 +509,11 @@ void TimeSteppingEngine<D>::settle(const State<D>& s, const std::vector<SpherePa
     }
     sort_unique(group_clusters);
     const GroupSolution<D> solution = place_at_contact(context(s), CollisionGroup{group_clusters, {}});
+    std::vector<int> moved(solution.spheres.begin(), solution.spheres.end());
     apply(solution, settled);
     contacts = solution.contacts;
-    retreating = clusters_overlapping_outside(s, settled, group_clusters);
+    // Only what moved now can overlap anything new: nothing outside the group moves here.
+    retreating = clusters_overlapping_outside(s, moved, group_clusters);
   }
   moved_in_step_.insert(moved_in_step_.end(), settled.begin(), settled.end());
   for (const SpherePair& p : contacts) bodies_.link(p, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
