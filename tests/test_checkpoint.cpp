@@ -388,8 +388,11 @@ TEST(CheckpointCli, EventDrivenKilledAtRandomResumesIdentically) {
                                          "output.snapshot_formats=[\"h5md\", \"xyz\"]"}, true);
 }
 
+// 10^4 discs: about 0.5 s in Release, so that the kill (at most 150 ms after the first
+// checkpoint, 0.03 s in) comes before the end (1500 discs took 0.05 s once small loops ran
+// on one thread, and the run finished before it could be killed).
 TEST(CheckpointCli, TimeSteppingKilledAtRandomResumesIdentically) {
-  expect_killed_run_resumes_identically({"engine.kind=\"ts\"", "system.n=1500", "stop.clusters=20",
+  expect_killed_run_resumes_identically({"engine.kind=\"ts\"", "system.n=10000", "stop.clusters=20",
                                          "output.snapshot_every=5", "output.snapshot_formats=[\"h5md\", \"xyz\"]"},
                                         true);
 }
