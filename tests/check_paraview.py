@@ -132,15 +132,31 @@ def main():
         sys.exit(77)
     import matplotlib.image
 
-    server, display = start_xvfb(xvfb)
-    try:
-        run_all(binary, pvpython, display, matplotlib.image)
-    finally:
-        server.terminate()
-        server.wait()
+    run_all(binary, pvpython, xvfb, matplotlib.image)
 
 
-def run_all(binary, pvpython, display, image):
+# ParaView 5.11 sometimes aborts at start with "bad X server connection" although the Xvfb
+# it was given accepts connections (seen in 1 of 5 runs of the whole suite under ctest -j2,
+# and in most runs when six of these tests ran at once). That is neither our script nor our
+# files, so pvpython is run again on a fresh Xvfb, at most this many times in all.
+PVPYTHON_ATTEMPTS = 3
+
+
+def run_pvpython(pvpython, xvfb, args):
+    for attempt in range(1, PVPYTHON_ATTEMPTS + 1):
+        server, display = start_xvfb(xvfb)
+        try:
+            result = subprocess.run([pvpython] + args, capture_output=True, text=True, timeout=180,
+                                    env=dict(os.environ, DISPLAY=display))
+        finally:
+            server.terminate()
+            server.wait()
+        if "bad X server connection" not in result.stderr or attempt == PVPYTHON_ATTEMPTS:
+            return result
+        print(f"check_paraview: pvpython lost its X server connection at start (attempt {attempt}); again")
+
+
+def run_all(binary, pvpython, xvfb, image):
     with tempfile.TemporaryDirectory(prefix="ballagg-paraview-") as workdir:
         runs = [("2d-walls", 2, "walls", 2.0), ("3d-periodic", 3, "periodic", 0.25), ("2d-final-only", 2, "periodic", 0)]
         for name, dimension, boundary, every in runs:
@@ -150,9 +166,7 @@ def run_all(binary, pvpython, display, image):
                             "--set", "initial.positions=random", "--set", f"output.snapshot_every={every}"],
                            check=True, stdout=subprocess.DEVNULL)
             png = os.path.join(workdir, name + ".png")
-            result = subprocess.run([pvpython, os.path.abspath(__file__), "--inside", out, png],
-                                    capture_output=True, text=True, timeout=180,
-                                    env=dict(os.environ, DISPLAY=display))
+            result = run_pvpython(pvpython, xvfb, [os.path.abspath(__file__), "--inside", out, png])
             if result.returncode != 0 or OK not in result.stdout:
                 sys.stdout.write(result.stdout)
                 sys.stderr.write(result.stderr[-4000:])
