@@ -111,7 +111,8 @@ def _show_spheres(source, view):
     return display
 
 
-_INFORMATION_SCRIPT = """
+# What both scripts of the Programmable Source start with: the reader module and the frame times.
+_PREAMBLE = """
 import sys
 if {here!r} not in sys.path:
     sys.path.insert(0, {here!r})
@@ -119,7 +120,9 @@ import ballagg_h5md
 times = ballagg_h5md.read_times({path!r})
 executive = self.GetExecutive()
 info = executive.GetOutputInformation(0)
-info.Remove(executive.TIME_STEPS())
+"""
+
+_INFORMATION_SCRIPT = _PREAMBLE + """info.Remove(executive.TIME_STEPS())
 info.Remove(executive.TIME_RANGE())
 for t in times:
     info.Append(executive.TIME_STEPS(), float(t))
@@ -127,15 +130,7 @@ info.Append(executive.TIME_RANGE(), float(times[0]))
 info.Append(executive.TIME_RANGE(), float(times[-1]))
 """
 
-_DATA_SCRIPT = """
-import sys
-if {here!r} not in sys.path:
-    sys.path.insert(0, {here!r})
-import ballagg_h5md
-times = ballagg_h5md.read_times({path!r})
-executive = self.GetExecutive()
-info = executive.GetOutputInformation(0)
-t = info.Get(executive.UPDATE_TIME_STEP()) if info.Has(executive.UPDATE_TIME_STEP()) else times[-1]
+_DATA_SCRIPT = _PREAMBLE + """t = info.Get(executive.UPDATE_TIME_STEP()) if info.Has(executive.UPDATE_TIME_STEP()) else times[-1]
 frame = ballagg_h5md.read_frame({path!r}, ballagg_h5md.frame_index(times, t))
 output = self.GetOutput()
 ballagg_h5md.fill_polydata(output, frame)
