@@ -224,6 +224,26 @@ TEST(PairIndex, FindsEveryPairInEitherOrderAndForgetsThemWhenCleared) {
   for (const auto& [i, j] : stored) EXPECT_EQ(index.find(i, j), PairIndex::kAbsent);
 }
 
+// A table grown for a large set is given back when it is cleared with few entries, and
+// one whose entries fill a fair part of it is kept; either way it works on after clear().
+TEST(PairIndex, GivesBackATableFarLargerThanItsEntriesWhenCleared) {
+  PairIndex index;
+  for (int k = 0; k < 100000; ++k) index.insert(k, k + 1, k);
+  const std::size_t large = index.capacity();
+  EXPECT_GE(large, 200000u);
+  index.clear();  // 100 000 entries of 262 144 slots: kept
+  EXPECT_EQ(index.capacity(), large);
+  for (int k = 0; k < 10; ++k) index.insert(k, k + 2, k);
+  index.clear();  // 10 entries: given back
+  EXPECT_LT(index.capacity(), large);
+  for (int k = 0; k < 3000; ++k) EXPECT_TRUE(index.insert(k, k + 3, k).second);
+  for (int k = 0; k < 3000; ++k) {
+    EXPECT_EQ(index.find(k + 3, k), k);
+    EXPECT_EQ(index.find(k, k + 1), PairIndex::kAbsent);
+  }
+  EXPECT_EQ(index.size(), 3000u);
+}
+
 TEST(AdhesiveSet, GroupsAreTheConnectedBodiesInOrderOfTheirLowestId) {
   AdhesiveSet S(10);
   S.add(0, 1, 5, 7);

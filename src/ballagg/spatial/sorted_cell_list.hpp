@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "ballagg/core/parallel.hpp"
 #include "ballagg/core/vec.hpp"
 #include "ballagg/spatial/box.hpp"
 #include "ballagg/spatial/grid_geometry.hpp"
@@ -36,11 +37,13 @@ class SortedCellList {
   void build(const std::vector<Vec<D>>& x) {
     const int n = static_cast<int>(x.size());
     cell_.resize(n);
+    // The cell of each item on every thread (the divisions are most of a build); the
+    // counts and the scatter below stay in item order, so the slots do not depend on the
+    // number of threads.
+#pragma omp parallel for schedule(static) if (n >= kParallelLoopMin)
+    for (int i = 0; i < n; ++i) cell_[i] = grid_.cell_index(x[i]);
     std::fill(start_.begin(), start_.end(), 0);
-    for (int i = 0; i < n; ++i) {
-      cell_[i] = grid_.cell_index(x[i]);
-      ++start_[cell_[i] + 1];
-    }
+    for (int i = 0; i < n; ++i) ++start_[cell_[i] + 1];
     for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
     order_.resize(n);
     sorted_.resize(n);

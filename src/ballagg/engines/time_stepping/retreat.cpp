@@ -5,6 +5,8 @@
 #include <utility>
 #include <vector>
 
+#include "ballagg/core/parallel.hpp"
+
 namespace ballagg {
 namespace {
 
@@ -86,9 +88,15 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
     Vec<D> base, drift;  // separation at theta: base - theta * drift
     double sigma;
   };
-  std::vector<Candidate> candidates;
-  std::vector<std::pair<double, double>> bad;  // retreat fractions where a pair is too close
-  auto consider = [&](int i, int j, int bj) {
+  // Per thread: the pairs looked at, and the retreat fractions where a pair is too close.
+  // Their order does not matter: the intervals are sorted and the contacts put in pair
+  // order below, so the result does not depend on the number of threads.
+  struct Found {
+    std::vector<Candidate> candidates;
+    std::vector<std::pair<double, double>> bad;
+  };
+  std::vector<Found> found(max_threads());
+  auto consider = [&](Found& out, int i, int j, int bj) {
     const int ci = s.spheres.cluster[i], cj = s.spheres.cluster[j];
     const bool member = bj >= 0;
     const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
@@ -102,8 +110,8 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
     // step) is held to that, never made worse.
     if (member) too_near = std::min(too_near, (base - drift).norm());
     const auto interval = too_close<D>(base, drift, too_near);
-    if (interval.first < interval.second && interval.second > 0.0) bad.push_back(interval);
-    candidates.push_back({{std::min(i, j), std::max(i, j), 0.0}, base, drift, sigma});
+    if (interval.first < interval.second && interval.second > 0.0) out.bad.push_back(interval);
+    out.candidates.push_back({{std::min(i, j), std::max(i, j), 0.0}, base, drift, sigma});
   };
   // Only the pairs that the retreat can bring within contact distance are looked at. A
   // sphere i moves back along its cluster's flight, a segment: a sphere outside the group
@@ -123,41 +131,56 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
     const Vec<D> between = s.box.separation(starts[k].centre, starts[m].centre);
     return distance_to_segment<D>(between, -relative_flight) <= starts[k].radius + starts[m].radius + contact_reach;
   };
-  std::vector<std::size_t> partners;
+  std::vector<std::vector<std::size_t>> partners(clusters.size());
+  std::vector<std::pair<std::int32_t, std::int32_t>> retreating;  // (sphere, k) of the queried clusters
   for (std::size_t k = 0; k < clusters.size(); ++k) {
     const int c = clusters[k].first;
     if (!queried(c)) continue;
-    partners.clear();
     for (std::size_t m = 0; m < clusters.size(); ++m)
-      if (m != k && can_meet(k, m)) partners.push_back(m);
-    for (int i : s.clusters[c].members) {
-      const Vec<D> start = ctx.positions[i] - ctx.step_shift[i];
-      for (std::size_t m : partners) {
-        // Not a structured binding: clang 14 cannot capture one in a lambda.
-        const int other = clusters[m].first, other_body = clusters[m].second;
-        const Vec<D> relative_flight = ctx.flight[c] - ctx.flight[other];
-        const Vec<D> to_centre = s.box.separation(start, starts[m].centre);
-        if (distance_to_segment<D>(to_centre, -relative_flight) > starts[m].radius + contact_reach) continue;
-        auto member = [&](int j) {
-          if (!(queried(other) && j < i)) consider(i, j, other_body);
-        };
-        if (s.clusters[other].size() <= kListedClusterSize) {
-          for (int j : s.clusters[other].members) member(j);
-          continue;
-        }
-        // The spheres of o are where the step's minimisations moved them, up to its
-        // longest_shift from their start.
-        auto in_other = [&](int j) {
-          if (s.spheres.cluster[j] == other) member(j);
-        };
-        ctx.cells.for_each_near_segment(start, Vec<D>(-relative_flight), contact_reach + starts[m].longest_shift + ctx.cell_slack,
-                                        in_other);
-      }
-      auto outside = [&](int j) {
-        if (s.spheres.cluster[j] != c && body_index(ctx, g, j) < 0) consider(i, j, -1);
+      if (m != k && can_meet(k, m)) partners[k].push_back(m);
+    for (int i : s.clusters[c].members) retreating.push_back({i, static_cast<std::int32_t>(k)});
+  }
+  // The pairs of one retreating sphere i of the group's k-th cluster.
+  auto look_around = [&](Found& out, int i, std::size_t k) {
+    const int c = clusters[k].first;
+    const Vec<D> start = ctx.positions[i] - ctx.step_shift[i];
+    for (std::size_t m : partners[k]) {
+      // Not a structured binding: clang 14 cannot capture one in a lambda.
+      const int other = clusters[m].first, other_body = clusters[m].second;
+      const Vec<D> relative_flight = ctx.flight[c] - ctx.flight[other];
+      const Vec<D> to_centre = s.box.separation(start, starts[m].centre);
+      if (distance_to_segment<D>(to_centre, -relative_flight) > starts[m].radius + contact_reach) continue;
+      auto member = [&](int j) {
+        if (!(queried(other) && j < i)) consider(out, i, j, other_body);
       };
-      ctx.cells.for_each_near_segment(start, Vec<D>(-ctx.flight[c]), contact_reach + ctx.cell_slack, outside);
+      if (s.clusters[other].size() <= kListedClusterSize) {
+        for (int j : s.clusters[other].members) member(j);
+        continue;
+      }
+      // The spheres of o are where the step's minimisations moved them, up to its
+      // longest_shift from their start.
+      auto in_other = [&](int j) {
+        if (s.spheres.cluster[j] == other) member(j);
+      };
+      ctx.cells.for_each_near_segment(start, Vec<D>(-relative_flight), contact_reach + starts[m].longest_shift + ctx.cell_slack,
+                                      in_other);
     }
+    auto outside = [&](int j) {
+      if (s.spheres.cluster[j] != c && body_index(ctx, g, j) < 0) consider(out, i, j, -1);
+    };
+    ctx.cells.for_each_near_segment(start, Vec<D>(-ctx.flight[c]), contact_reach + ctx.cell_slack, outside);
+  };
+  // Late in a large run a retreating group holds thousands of spheres: their searches are
+  // shared among the threads.
+  const std::int64_t n_retreating = static_cast<std::int64_t>(retreating.size());
+#pragma omp parallel for schedule(dynamic, 64) if (n_retreating >= kParallelLoopMin)
+  for (std::int64_t r = 0; r < n_retreating; ++r)
+    look_around(found[thread_index()], retreating[r].first, static_cast<std::size_t>(retreating[r].second));
+  std::vector<Candidate> candidates;
+  std::vector<std::pair<double, double>> bad;
+  for (Found& f : found) {
+    candidates.insert(candidates.end(), f.candidates.begin(), f.candidates.end());
+    bad.insert(bad.end(), f.bad.begin(), f.bad.end());
   }
   const double theta = std::min(1.0, first_free(bad));
 
