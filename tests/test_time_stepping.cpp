@@ -320,6 +320,40 @@ TEST(TimeSteppingFallback, GroupsOfManyPairsAreRetreatedWithoutAMinimisation) {
   EXPECT_LE(r.counters.max_residual_overlap, ts.daha.eps_c);
 }
 
+TEST(TimeSteppingFallback, TwoLargeBlocksAreRetreatedToTheirFirstContactOnAnyThreadCount) {
+  // Two glued 70 x 70 blocks of touching discs (radius 0.5, 4900 each), the second shifted
+  // by half a spacing in y, fly head-on at speeds +1 and -1; their facing columns start 3
+  // apart. One step of 1.5 drives them through each other along hundreds of pairs, so the
+  // group goes to the fall-back without a minimisation, and the 4900 spheres of the block
+  // that searches (the other is the group's largest cluster) are shared among the threads. The event-driven answer: first contact when the facing columns
+  // are sqrt(1 - 0.5^2) apart in x, each block having moved (3 - sqrt(0.75)) / 2; then one
+  // cluster at rest (equal masses).
+  constexpr int kSide = 70;
+  std::vector<Ball<2>> balls;
+  for (int block = 0; block < 2; ++block)
+    for (int a = 0; a < kSide; ++a)
+      for (int b = 0; b < kSide; ++b) {
+        const Vec<2> x = block == 0 ? vec<2>(10 + a, 20 + b) : vec<2>(10 + kSide + 2 + a, 20.5 + b);
+        balls.push_back({x, vec<2>(block == 0 ? 1 : -1, 0), 0.5, 1.0, block});
+      }
+  const auto [one, two] = testing::on_one_and_two_threads([&] {
+    State<2> s = make_state<2>(200, Boundary::walls, balls);
+    TimeSteppingSettings ts = settings(TsModel::rigid, 1.5 / 200);  // dt = 1.5
+    ts.dt_growth = 1.0;
+    const RunResult r = run_ts(s, ts, until(1.5));
+    EXPECT_EQ(s.n_clusters(), 1);
+    EXPECT_EQ(r.counters.placed_at_contact, 1);
+    EXPECT_EQ(r.counters.daha_iterations, 0);
+    const double moved = (3.0 - std::sqrt(0.75)) / 2.0;
+    const double tolerance = ts.daha.eps_c;  // a retreat stops within eps_c of contact
+    EXPECT_NEAR(s.position(0, s.time)[0], 10 + moved, tolerance);
+    EXPECT_NEAR(s.position(kSide * kSide, s.time)[0], 10 + kSide + 2 - moved, tolerance);
+    EXPECT_EQ(s.velocity(0), vec<2>(0, 0));
+    return state_csv_text(s);
+  });
+  EXPECT_EQ(one, two);
+}
+
 // The largest relative overlap between spheres of different clusters.
 template <int D>
 double worst_overlap_between_clusters(const State<D>& s) {
