@@ -327,6 +327,63 @@ TEST_F(RenderCli, VideoHasOneFramePerSnapshot) {
   EXPECT_EQ(testing::slurp(out("probe")), fmt::format("160,{}\n", frames));
 }
 
+// A video that outgrows the disk is reported like every output file (docs/hardening.md):
+// status 2, one line naming it and the reason, and no file left, not even a temporary.
+// ffmpeg's write fails first; the reason is the errno of our own write where it failed.
+TEST_F(RenderCli, VideoBeyondAFileSizeLimitIsOneLineNamingItAndLeavesNoPartialFile) {
+  if (std::system("command -v ffprobe >/dev/null 2>&1") != 0) GTEST_SKIP() << "ffmpeg is not installed";
+  const testing::Outcome whole = render({run2().string(), "--video", out("v.mp4").string()});
+  ASSERT_EQ(whole.status, 0) << whole.err;
+  const std::uintmax_t size = fs::file_size(out("v.mp4"));
+  fs::remove(out("v.mp4"));
+  // 16 KiB: the first frames do not fit. Just under the whole video: only the end does
+  // not, which ffmpeg 5.1 (without -xerror) reported with status 0, leaving it truncated.
+  // With SIGXFSZ ignored by the shell and without: ballagg ignores it itself, and ffmpeg
+  // inherits that.
+  for (const std::uintmax_t kib : {std::uintmax_t{16}, size / 1024})
+    for (const std::string trap : {"trap \"\" XFSZ; ", ""}) {
+      SCOPED_TRACE(fmt::format("{}ulimit -f {} ({} bytes whole)", trap, kib, size));
+      const std::string limited = fmt::format("bash -c '{}ulimit -f {}; exec \"$0\" \"$@\"'", trap, kib);
+      const testing::Outcome o =
+          testing::run_ballagg({"render", run2().string(), "--video", out("v.mp4").string()}, dir_.path(), limited);
+      EXPECT_EQ(o.status, 2) << o.err;
+      EXPECT_EQ(o.err, "ballagg: error: " + out("v.mp4").string() + ": cannot write: File too large\n");
+      EXPECT_TRUE(fs::is_empty(dir_.path())) << "something was left";
+    }
+}
+
+TEST_F(RenderCli, VideoOnAFullDiskIsOneLineNamingItAndLeavesNoPartialFile) {
+  if (std::system("command -v ffprobe >/dev/null 2>&1") != 0) GTEST_SKIP() << "ffmpeg is not installed";
+  // A 16 KiB tmpfs in a mount namespace of the command's own, as in test_cli's
+  // NoSpaceLeftOnATinyFilesystemIsOneLineAndLeavesNoPartialFile.
+  const fs::path disk = out("disk"), video = disk / "v.mp4", listing = out("listing");
+  fs::create_directory(disk);
+  const std::string inside = "mount -t tmpfs -o size=16k tmpfs " + testing::quoted(disk.string()) +
+                             " || exit 77; \"$0\" \"$@\"; s=$?; ls -A " + testing::quoted(disk.string()) + " > " +
+                             testing::quoted(listing.string()) + "; exit $s";
+  const testing::Outcome o = testing::run_ballagg({"render", run2().string(), "--video", video.string()}, dir_.path(),
+                                                  "unshare --user --map-root-user --mount sh -c " + testing::quoted(inside));
+  if (o.status == 77 || !fs::exists(listing)) GTEST_SKIP() << "cannot mount a tmpfs in a user namespace here";
+  EXPECT_EQ(o.status, 2) << o.err;
+  EXPECT_EQ(o.err, "ballagg: error: " + video.string() + ": cannot write: No space left on device\n");
+  EXPECT_EQ(testing::slurp(listing), "") << "left on the full disk";
+}
+
+TEST_F(RenderCli, AnFfmpegFailureThatIsNotTheDiskIsStatusOneWithItsMessage) {
+  // A stand-in ffmpeg that reads every frame, reports an error and exits with status 0
+  // (as ffmpeg 5.1 does when it cannot write the trailer, unless given -xerror): an
+  // error message is a failure whatever the status.
+  const TempDir bin("ballagg-test-fake-ffmpeg-");
+  const fs::path fake = bin.path() / "ffmpeg";
+  testing::write(fake, "#!/bin/sh\ncat > /dev/null\necho 'Something else went wrong' >&2\nexit 0\n");
+  fs::permissions(fake, fs::perms::owner_all);
+  const testing::Outcome o = testing::run_ballagg({"render", run2().string(), "--video", out("v.mp4").string()},
+                                                  dir_.path(), "env PATH=" + testing::quoted(bin.path().string()) + ":\"$PATH\"");
+  EXPECT_EQ(o.status, 1) << o.err;
+  EXPECT_EQ(o.err, "ballagg: failed: " + out("v.mp4").string() + ": ffmpeg failed: Something else went wrong\n");
+  EXPECT_TRUE(fs::is_empty(dir_.path())) << "something was left";
+}
+
 TEST_F(RenderCli, ThreeDPictureAggregateAndPovRayScene) {
   const testing::Outcome o = render({run3().string(), "--png", out("box.png").string(), "--width", "200"});
   ASSERT_EQ(o.status, 0) << o.err;

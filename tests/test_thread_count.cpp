@@ -1,10 +1,17 @@
 // The same configuration and seed give byte-identical files on one OpenMP thread and on
 // two: every engine's run (final.csv, timeseries.csv, summary.json but for its wall-clock
-// fields, final.xyz, and the rigid-body engine's end-of-run analysis), `ballagg analyze`
-// and `ballagg verify`. Threads only share out work whose result does not depend on the
-// sharing: pair scans merged in a fixed order, independent per-group solves.
+// fields, final.xyz, and the rigid-body engine's end-of-run analysis) in 2D and 3D, every
+// time-stepping cluster model, `ballagg analyze` and `ballagg verify`. Threads only share
+// out work whose result does not depend on the sharing: pair scans merged in a fixed
+// order, independent per-group solves.
+#include <algorithm>
+#include <string>
+#include <tuple>
+
 #include <gtest/gtest.h>
 
+#include "ballagg/analysis/pair_scan.hpp"
+#include "ballagg/core/parallel.hpp"
 #include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/verify_run.hpp"
 #include "support.hpp"
@@ -50,13 +57,17 @@ TEST(ThreadCount, NaiveEventDrivenRunFilesDoNotDependOnIt) {
 
 TEST(ThreadCount, RigidBodyRunFilesDoNotDependOnIt) {
   // Rotating aggregates, and the analysis files written at the end of the run (on 20000
-  // discs: the pair scans run on threads).
+  // spheres, in 2D and 3D: the pair scans run on threads).
+  static_assert(20000 >= kParallelPairScanMin);
   Config c = run_config(EngineKind::rigid_body, 3, 150, Boundary::periodic, 10);
   c.initial.velocities = InitialVelocities::gaussian;
   expect_run_files_independent_of_threads(c);
-  Config walls = run_config(EngineKind::rigid_body, 2, 20000, Boundary::walls, 19000, 0.1);
-  walls.initial.velocities = InitialVelocities::gaussian;
-  expect_run_files_independent_of_threads(walls);
+  for (const int dimension : {2, 3}) {
+    SCOPED_TRACE(dimension);
+    Config walls = run_config(EngineKind::rigid_body, dimension, 20000, Boundary::walls, 19000, 0.1);
+    walls.initial.velocities = InitialVelocities::gaussian;
+    expect_run_files_independent_of_threads(walls);
+  }
 }
 
 TEST(ThreadCount, TimeSteppingRunFilesDoNotDependOnIt) {
@@ -66,30 +77,64 @@ TEST(ThreadCount, TimeSteppingRunFilesDoNotDependOnIt) {
   expect_run_files_independent_of_threads(run_config(EngineKind::ts, 2, 5000, Boundary::periodic, 4000, 0.02));
 }
 
+// One long step (dt_factor 0.05) of a dense gas (Vf 0.3), on enough spheres that every
+// parallel loop of a step runs on threads: positions, the near-pair scan, the contact
+// checks (kParallelLoopMin spheres) and the solution of the collision groups
+// (kParallelPairs = 2000 pairs in a round), checked with a breakpoint on GOMP_parallel
+// (docs/hardening.md). The near-pair refresh of later steps (4096 stale spheres) is not
+// reached at this size. One test per model and dimension, so that ctest -j shares them.
+class ThreadCountTimeStepping : public ::testing::TestWithParam<std::tuple<TsModel, int>> {};
+INSTANTIATE_TEST_SUITE_P(EveryModel, ThreadCountTimeStepping,
+                         ::testing::Combine(::testing::Values(TsModel::rigid, TsModel::almost_rigid, TsModel::non_rigid),
+                                            ::testing::Values(2, 3)),
+                         [](const auto& info) {
+                           std::string name(to_string(std::get<0>(info.param)));
+                           std::replace(name.begin(), name.end(), '-', '_');
+                           return name + "_" + std::to_string(std::get<1>(info.param)) + "D";
+                         });
+
+TEST_P(ThreadCountTimeStepping, RunFilesDoNotDependOnIt) {
+  const TsModel model = std::get<0>(GetParam());
+  const int dimension = std::get<1>(GetParam());
+  static_assert(5000 >= kParallelLoopMin && 10000 >= kParallelLoopMin);
+  Config c = run_config(EngineKind::ts, dimension, dimension == 2 ? 10000 : 5000, Boundary::periodic, 1, 0.3);
+  c.ts.model = model;
+  c.ts.dt_factor = 0.05;
+  c.stop.time = 0.5;
+  expect_run_files_independent_of_threads(c);
+}
+
 TEST(ThreadCount, AnalysisAndVerificationDoNotDependOnIt) {
   // The pair scans (contacts, pair distribution, overlaps) run on threads from 20000
-  // spheres on: a state of 20000 discs in 10000 clusters.
-  const TempDir scratch;
-  RunOptions options;
-  options.out_dir = (scratch / "run").string();
-  options.quiet = true;
-  options.checkpoint_on_signals = false;
-  run_simulation(run_config(EngineKind::ed, 2, 20000, Boundary::periodic, 10000, 0.2), options);
-  const auto [one, two] = on_one_and_two_threads([&] {
-    analyze_run({options.out_dir, "", "", (scratch / "analysis").string()});
-    auto files = testing::reproducible_files(scratch / "analysis");
-    std::filesystem::remove_all(scratch / "analysis");
-    return files;
-  });
-  EXPECT_TRUE(one.count("analysis.json"));
-  expect_same_files(one, two);
+  // spheres on: a state of 20000 spheres in 10000 clusters. `analyze` in 2D (in 3D: the
+  // rigid-body run's analysis above), `verify` in 2D and 3D.
+  static_assert(20000 >= kParallelPairScanMin);
+  for (const int dimension : {2, 3}) {
+    SCOPED_TRACE(dimension);
+    const TempDir scratch;
+    RunOptions options;
+    options.out_dir = (scratch / "run").string();
+    options.quiet = true;
+    options.checkpoint_on_signals = false;
+    run_simulation(run_config(EngineKind::ed, dimension, 20000, Boundary::periodic, 10000, 0.2), options);
+    if (dimension == 2) {
+      const auto [one, two] = on_one_and_two_threads([&] {
+        analyze_run({options.out_dir, "", "", (scratch / "analysis").string()});
+        auto files = testing::reproducible_files(scratch / "analysis");
+        std::filesystem::remove_all(scratch / "analysis");
+        return files;
+      });
+      EXPECT_TRUE(one.count("analysis.json"));
+      expect_same_files(one, two);
+    }
 
-  const auto [verified_one, verified_two] = on_one_and_two_threads([&] { return verify_run(options.out_dir); });
-  EXPECT_GT(verified_one.checks, 0);
-  EXPECT_TRUE(verified_one.violations.empty());
-  EXPECT_EQ(verified_one.checks, verified_two.checks);
-  EXPECT_EQ(verified_one.violations, verified_two.violations);
-  EXPECT_EQ(verified_one.notes, verified_two.notes);
+    const auto [verified_one, verified_two] = on_one_and_two_threads([&] { return verify_run(options.out_dir); });
+    EXPECT_GT(verified_one.checks, 0);
+    EXPECT_TRUE(verified_one.violations.empty());
+    EXPECT_EQ(verified_one.checks, verified_two.checks);
+    EXPECT_EQ(verified_one.violations, verified_two.violations);
+    EXPECT_EQ(verified_one.notes, verified_two.notes);
+  }
 }
 
 }  // namespace

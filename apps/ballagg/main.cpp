@@ -2,6 +2,7 @@
 // (one line on stderr, nothing written) or an output file that cannot be written (one
 // line naming it, nothing half-written); 1 any other failure; 128 + N after signal N.
 // The commands and options are registered in command_line.cpp; here the chosen one is run.
+#include <csignal>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -17,6 +18,10 @@
 
 int main(int argc, char** argv) {
   ballagg::hdf5::no_library_exit_handler();  // every file is closed by its owner
+  // A write beyond the file-size limit (ulimit -f) fails with EFBIG, reported like a full
+  // disk, instead of ending the program by SIGXFSZ with its temporary files left behind.
+  // ffmpeg (render --video) inherits it.
+  std::signal(SIGXFSZ, SIG_IGN);
   ballagg::cli::CommandLine cl;
   if (const std::optional<int> status = ballagg::cli::parse_command_line(cl, argc, argv)) return *status;
 
