@@ -175,16 +175,8 @@ TEST_P(TimeStepping, SameSeedGivesByteIdenticalStates) {
   EXPECT_EQ(final_text(), final_text());
 }
 
-TEST_P(TimeStepping, ResultDoesNotDependOnTheThreadCount) {
-  const auto [one, two] = testing::on_one_and_two_threads([&] {
-    // The per-sphere models cost far more per sphere (every sphere is a variable).
-    const int n = GetParam() == TsModel::rigid ? 400 : 120;
-    State<3> s = make_initial_state<3>(testing::small_config(3, n, 0.2, Boundary::walls, 10));
-    run_ts(s, settings(GetParam()), until(1e9, n / 10));
-    return state_csv_text(s);
-  });
-  EXPECT_EQ(one, two);
-}
+// Independence of the thread count, for every model in 2D and 3D at sizes whose loops run
+// on threads: tests/test_thread_count.cpp.
 
 TEST(TimeSteppingFiles, FinalStateCanBeFedBackAsTheInitialState) {
   // Clusters left by time stepping overlap internally by up to eps_c, and may touch the
