@@ -13,7 +13,8 @@ ase.io.read in the "extxyz" format (a file ASE cannot parse fails the test). Che
 * trajectory.xyz has frames at t = 0, k * snapshot_every and the end (summary.json's time),
   read from each frame's `Time`, and its last frame is final.xyz;
 * when the run also writes trajectory.h5md, every frame of trajectory.xyz holds the same
-  time, positions, velocities and cluster ids as that frame of trajectory.h5md.
+  time, positions, velocities and cluster ids as that frame of trajectory.h5md (whose
+  positions and velocities are, in single precision, the XYZ file's rounded to float32).
 
 Exit status 0 when every check passes; prints one line per run.
 """
@@ -118,9 +119,12 @@ def check(binary, workdir, name, dimension, boundary, every, n, formats):
             velocity = f["particles/all/velocity/value"][:]
             cluster = f["particles/all/cluster/value"][:]
         assert position.shape[0] == len(frames)
+        stored = position.dtype  # float32: output.snapshot_precision = "single" (the default)
+        assert stored in (np.float32, np.float64) and velocity.dtype == stored, (stored, velocity.dtype)
         for k, atoms in enumerate(frames):
-            assert np.array_equal(atoms.get_positions()[:, :dimension], position[k]), f"frame {k} positions"
-            assert np.array_equal(atoms.arrays["velo"][:, :dimension], velocity[k]), f"frame {k} velocities"
+            x, v = atoms.get_positions()[:, :dimension], atoms.arrays["velo"][:, :dimension]
+            assert np.array_equal(x.astype(stored), position[k]), f"frame {k} positions"
+            assert np.array_equal(v.astype(stored), velocity[k]), f"frame {k} velocities"
             assert np.array_equal(atoms.arrays["cluster"], cluster[k]), f"frame {k} cluster ids"
         compared = ", every frame equal to trajectory.h5md's"
     print(f"{name}: final.xyz and {len(frames)} frames of {n} spheres (t = 0 ... {t_end:.6g}) read back "

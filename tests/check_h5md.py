@@ -2,10 +2,12 @@
 """Reads trajectory.h5md back with h5py (Debian's python3-h5py), as a user would.
 
 Runs ballagg (the binary given as the first argument) in a temporary directory, a 2D
-periodic and a 3D walled run with snapshots, and checks that the file has the H5MD 1.1
-layout, frames at t = 0, k * snapshot_every and the end, and that its last frame holds
-exactly the positions, velocities and cluster ids of final.csv. Exit status 0 when every
-check passes; prints one line per run.
+periodic and a 3D walled run with snapshots, each in both output.snapshot_precision, and
+checks that the file has the H5MD 1.1 layout, frames at t = 0, k * snapshot_every and the
+end, and that its last frame holds the positions, velocities and cluster ids of final.csv:
+exactly in double precision; in single precision (float32, the default) within
+FLOAT32_RELATIVE_ERROR of them, and equal to them rounded to float32. Exit status 0 when
+every check passes; prints one line per run.
 """
 import csv
 import os
@@ -16,12 +18,31 @@ import tempfile
 import h5py
 import numpy as np
 
+# Single precision: each stored position and velocity is final.csv's double rounded to the
+# nearest float32, so it differs from it by at most half a unit in the last place of a
+# float32, 2^-24 of its magnitude (24-bit significand; no value here is subnormal).
+FLOAT32_RELATIVE_ERROR = 2.0 ** -24
 
-def check(binary, workdir, name, dimension, boundary, every, n):
-    out = os.path.join(workdir, name)
+
+def expect_stored(stored, exact, precision, what):
+    """The stored values of a frame against final.csv's doubles `exact`."""
+    if precision == "double":
+        assert stored.dtype == np.float64, (what, stored.dtype)
+        assert np.array_equal(stored, exact), f"last frame {what} differ from final.csv"
+        return
+    assert stored.dtype == np.float32, (what, stored.dtype)
+    error = np.abs(stored.astype(np.float64) - exact)
+    assert np.all(error <= FLOAT32_RELATIVE_ERROR * np.abs(exact)), \
+        f"last frame {what}: relative error {np.max(error / np.maximum(np.abs(exact), 1e-300)):.3g} beyond float32's"
+    assert np.array_equal(stored, exact.astype(np.float32)), f"last frame {what}: not final.csv rounded to float32"
+
+
+def check(binary, workdir, name, dimension, boundary, every, n, precision):
+    out = os.path.join(workdir, f"{name}-{precision}")
     subprocess.run([binary, "run", "-q", "--out", out, "--set", f"system.dimension={dimension}",
                     "--set", f"system.n={n}", "--set", f"system.boundary={boundary}",
-                    "--set", "initial.positions=random", "--set", f"output.snapshot_every={every}"],
+                    "--set", "initial.positions=random", "--set", f"output.snapshot_every={every}",
+                    "--set", f"output.snapshot_precision={precision}"],
                    check=True, stdout=subprocess.DEVNULL)
     with open(os.path.join(out, "final.csv")) as f:
         rows = list(csv.DictReader(f))
@@ -51,35 +72,42 @@ def check(binary, workdir, name, dimension, boundary, every, n):
             group = f["particles/all/" + element]
             assert np.array_equal(group["time"][:], time), element  # shared with position
             assert group["value"].shape[0] == frames, element
-        assert np.array_equal(position[-1], final_x), "last frame positions differ from final.csv"
-        assert np.array_equal(f["particles/all/velocity/value"][-1], final_v)
+        expect_stored(position[-1], final_x, precision, "positions")
+        expect_stored(f["particles/all/velocity/value"][-1], final_v, precision, "velocities")
         assert np.array_equal(f["particles/all/cluster/value"][-1], final_cluster)
         assert np.array_equal(f["particles/all/radius"][:], final_radius)
         edges = f["particles/all/box/edges"][:]
         assert edges.shape == (dimension,)
         if boundary == "periodic":
             # Unwrapped positions keep each cluster in one piece: no two spheres of one
-            # cluster that touch are a box length apart.
-            x = position[-1] + f["particles/all/image/value"][-1] * edges
-            folded_d = position[-1][:, None, :] - position[-1][None, :, :]
+            # cluster that touch are a box length apart. In single precision a distance
+            # is off by up to 2 sqrt(D) times a position's rounding error.
+            folded = position[-1].astype(np.float64)
+            slack = 1e-9 * 2 * final_radius.max()
+            if precision == "single":
+                slack += 2 * np.sqrt(dimension) * FLOAT32_RELATIVE_ERROR * edges.max()
+            x = folded + f["particles/all/image/value"][-1] * edges
+            folded_d = folded[:, None, :] - folded[None, :, :]
             folded_d -= edges * np.round(folded_d / edges)
-            touching = (np.linalg.norm(folded_d, axis=2) < 2 * final_radius.max() * (1 + 1e-9))
+            touching = (np.linalg.norm(folded_d, axis=2) < 2 * final_radius.max() + slack)
             touching &= final_cluster[:, None] == final_cluster[None, :]
             unwrapped_d = np.linalg.norm(x[:, None, :] - x[None, :, :], axis=2)
-            assert np.all(unwrapped_d[touching] < 2 * final_radius.max() * (1 + 1e-9))
+            assert np.all(unwrapped_d[touching] < 2 * final_radius.max() + slack)
         clusters = f["observables/clusters/value"][:]
         assert clusters.shape == (frames,) and clusters[0] == n and clusters[-1] == final_cluster.max() + 1
         config = f["parameters/config.toml"][()].decode()
         with open(os.path.join(out, "config.toml")) as g:
             assert config == g.read(), "parameters/config.toml differs from config.toml"
-    print(f"{name}: {frames} frames of {n} spheres read back with h5py; the last equals final.csv")
+    same = "equals final.csv" if precision == "double" else "is final.csv rounded to float32"
+    print(f"{name}, {precision} precision: {frames} frames of {n} spheres read back with h5py; the last {same}")
 
 
 def main():
     binary = sys.argv[1]
     with tempfile.TemporaryDirectory(prefix="ballagg-h5py-") as workdir:
-        check(binary, workdir, "2d-periodic", 2, "periodic", 2.0, 300)
-        check(binary, workdir, "3d-walls", 3, "walls", 1.5, 200)
+        for precision in ("single", "double"):
+            check(binary, workdir, "2d-periodic", 2, "periodic", 2.0, 300, precision)
+            check(binary, workdir, "3d-walls", 3, "walls", 1.5, 200, precision)
 
 
 if __name__ == "__main__":

@@ -3,16 +3,18 @@
 without ParaView, with Debian's /usr/bin/python3, python3-h5py and python3-numpy.
 
 Runs ballagg (the binary given as the first argument) in a temporary directory, a 2D
-periodic and a 3D walled run with H5MD snapshots, imports ballagg_h5md with ParaView and
+periodic run with H5MD snapshots in single and in double precision and a 3D walled one in
+single precision, imports ballagg_h5md with ParaView and
 VTK made unimportable (the module must not need them), and checks that
 
 * read_times gives the frames' times: 0, k * snapshot_every, and the end (summary.json);
 * read_box gives the dimension, the edges (the box length) and the boundary;
 * read_frame(-1) holds exactly final.csv's positions, velocities, radii, masses and cluster
-  ids (2D padded with z = 0), the periodic images (None with walls), and with unwrap=True
-  position + image * edges; read_frame(0) has every sphere in a cluster of its own; every
-  frame equals trajectory.h5md read with h5py directly; a frame out of range is an
-  IndexError;
+  ids (2D padded with z = 0; positions and velocities rounded to float32 when the file
+  stores single precision, output.snapshot_precision), as float64 arrays, the periodic
+  images (None with walls), and with unwrap=True position + image * edges; read_frame(0)
+  has every sphere in a cluster of its own; every frame equals trajectory.h5md read with
+  h5py directly; a frame out of range is an IndexError;
 * frame_index picks the last frame at or before a time (ParaView's time steps are the
   frames' times exactly; between two, the earlier frame; outside, the first or last).
 
@@ -56,20 +58,23 @@ def pad3(a):
     return out
 
 
-def check(reader, binary, workdir, name, dimension, boundary, every, n):
-    out = os.path.join(workdir, name)
+def check(reader, binary, workdir, name, dimension, boundary, every, n, precision):
+    out = os.path.join(workdir, f"{name}-{precision}")
     subprocess.run([binary, "run", "-q", "--out", out, "--set", f"system.dimension={dimension}",
                     "--set", f"system.n={n}", "--set", f"system.boundary={boundary}",
-                    "--set", "initial.positions=random", "--set", f"output.snapshot_every={every}"],
+                    "--set", "initial.positions=random", "--set", f"output.snapshot_every={every}",
+                    "--set", f"output.snapshot_precision={precision}"],
                    check=True, stdout=subprocess.DEVNULL)
+    # What the file stores of final.csv's doubles: themselves, or their float32 rounding.
+    stored = (lambda x: x) if precision == "double" else (lambda x: x.astype(np.float32).astype(np.float64))
     periodic = boundary == "periodic"
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
     with open(os.path.join(out, "final.csv")) as f:
         rows = list(csv.DictReader(f))
     axes = "xyz"[:dimension]
-    final_x = pad3(np.array([[float(r[a]) for a in axes] for r in rows]))
-    final_v = pad3(np.array([[float(r["v" + a]) for a in axes] for r in rows]))
+    final_x = stored(pad3(np.array([[float(r[a]) for a in axes] for r in rows])))
+    final_v = stored(pad3(np.array([[float(r["v" + a]) for a in axes] for r in rows])))
     final_radius = np.array([float(r["radius"]) for r in rows])
     final_mass = np.array([float(r["mass"]) for r in rows])
     final_cluster = np.array([int(r["cluster"]) for r in rows])
@@ -134,16 +139,17 @@ def check(reader, binary, workdir, name, dimension, boundary, every, n):
         pass
     else:
         raise AssertionError("frame_index of no frame did not raise ValueError")
-    print(f"{name}: {frames} frames of {n} spheres read by ballagg_h5md without ParaView; "
-          f"the last equals final.csv")
+    print(f"{name}, {precision} precision: {frames} frames of {n} spheres read by ballagg_h5md without ParaView; "
+          f"the last equals final.csv" + ("" if precision == "double" else " rounded to float32"))
 
 
 def main():
     binary = sys.argv[1]
     reader = import_reader()
     with tempfile.TemporaryDirectory(prefix="ballagg-pvreader-") as workdir:
-        check(reader, binary, workdir, "2d-periodic", 2, "periodic", 2.0, 300)
-        check(reader, binary, workdir, "3d-walls", 3, "walls", 1.5, 200)
+        check(reader, binary, workdir, "2d-periodic", 2, "periodic", 2.0, 300, "single")
+        check(reader, binary, workdir, "2d-periodic", 2, "periodic", 2.0, 300, "double")
+        check(reader, binary, workdir, "3d-walls", 3, "walls", 1.5, 200, "single")
 
 
 if __name__ == "__main__":

@@ -19,6 +19,7 @@ using ballagg::Config;
 using ballagg::InputError;
 using ballagg::parse_config_text;
 using ballagg::SnapshotFormat;
+using ballagg::SnapshotPrecision;
 
 using ballagg::testing::TempDir;
 
@@ -338,6 +339,20 @@ TEST(Config, SnapshotFormatsAreAListOfDistinctKnownNames) {
   EXPECT_CONTAINS(error_of("", {"output.snapshot_formats=[]", "output.snapshot_every=1"}),
                   "output.snapshot_formats is empty");
   EXPECT_CONTAINS(error_of("", {"output.snapshot_every=-1"}), "output.snapshot_every = -1: must be a number >= 0");
+}
+
+TEST(Config, SnapshotPrecisionIsSingleOrDouble) {
+  EXPECT_EQ(parse_config_text("", "t").output.snapshot_precision, SnapshotPrecision::single);
+  EXPECT_EQ(parse_config_text("", "t", {"output.snapshot_precision=double"}).output.snapshot_precision,
+            SnapshotPrecision::double_);
+  EXPECT_EQ(parse_config_text("", "t", {"output.snapshot_precision=single"}).output.snapshot_precision,
+            SnapshotPrecision::single);
+  EXPECT_CONTAINS(error_of("", {"output.snapshot_precision=half"}),
+                  "output.snapshot_precision = \"half\": must be one of \"single\", \"double\"");
+  EXPECT_CONTAINS(error_of("", {"output.snapshot_precision=32"}), "output.snapshot_precision");
+  // The resolved configuration names it, so that config.toml runs the same again.
+  EXPECT_CONTAINS(to_toml_text(parse_config_text("", "t", {"output.snapshot_precision=double"})),
+                  "snapshot_precision = \"double\"");
 }
 
 TEST(Config, NonIntegralExponentIsNotAnInteger) {

@@ -422,17 +422,18 @@ TEST_F(RenderCli, ARunWithoutTrajectoryHasNoFrames) {
   expect_bad_input({(scratch / "r").string(), "--frame", "0"}, "output.snapshot_every");
 }
 
-// A rigid-body run (rotating aggregates, Richardson 1995): its last trajectory frame is
-// final.csv to the bit (member spheres in the space frame, same cluster ids), the pictures
-// render, and the POV-Ray scene of its largest aggregate holds every sphere of it in one
-// piece: each touches another at exactly a contact distance.
+// A rigid-body run (rotating aggregates, Richardson 1995): its last trajectory frame (in
+// double precision) is final.csv to the bit (member spheres in the space frame, same
+// cluster ids), the pictures render, and the POV-Ray scene of its largest aggregate holds
+// every sphere of it in one piece: each touches another at exactly a contact distance.
 TEST(RenderRigidBody, TrajectoryPicturesAndOneAggregateForPovRay) {
   const TempDir dir;
   const fs::path run = dir / "run";
   const testing::Outcome o = testing::run_ballagg(
       {"run", "-q", "--out", run.string(), "--set", "engine.kind=\"rigid-body\"", "--set", "system.dimension=3", "--set",
        "system.n=300", "--set", "system.boundary=periodic", "--set", "system.volume_fraction=0.1", "--set",
-       "initial.velocities=\"gaussian\"", "--set", "stop.clusters=20", "--set", "output.snapshot_every=0.5"},
+       "initial.velocities=\"gaussian\"", "--set", "stop.clusters=20", "--set", "output.snapshot_every=0.5", "--set",
+       "output.snapshot_precision=double"},
       dir.path());
   ASSERT_EQ(o.status, 0) << o.err;
   const H5mdReader<3> trajectory((run / "trajectory.h5md").string());

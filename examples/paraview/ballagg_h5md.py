@@ -13,7 +13,9 @@ view_run.py calls, inside ParaView, to turn a frame into points.
     frame["cluster"]     # (N,) int32, ids 0, 1, ... within this frame
 
 Positions are those of the file, folded into a periodic box; `read_frame(..., unwrap=True)`
-adds image * edges, which puts every cluster in one piece across the faces.
+adds image * edges, which puts every cluster in one piece across the faces. The file
+stores positions and velocities as float32 (output.snapshot_precision = "single", the
+default) or float64; read_frame gives float64 either way.
 """
 import h5py
 import numpy as np

@@ -398,6 +398,8 @@ Config read_config(const toml::table& root, const std::string& source, const std
     c.output.snapshot_formats.clear();
     for (int k : *v) c.output.snapshot_formats.push_back(static_cast<SnapshotFormat>(k));
   }
+  if (auto v = out.choice("snapshot_precision", {"single", "double"}))
+    c.output.snapshot_precision = static_cast<SnapshotPrecision>(*v);
   if (auto v = out.real("checkpoint_every", [](double v) { return v >= 0.0; },
                         "must be a number of wall seconds >= 0 (0: checkpoints on SIGINT/SIGTERM only)"))
     c.output.checkpoint_every = *v;
@@ -511,6 +513,7 @@ std::string_view to_string(EngineKind k) {
   return names[static_cast<int>(k)];
 }
 std::string_view to_string(SnapshotFormat f) { return f == SnapshotFormat::h5md ? "h5md" : "xyz"; }
+std::string_view to_string(SnapshotPrecision p) { return p == SnapshotPrecision::single ? "single" : "double"; }
 std::string_view to_string(TsModel m) {
   static constexpr std::string_view names[] = {"rigid", "almost-rigid", "non-rigid"};
   return names[static_cast<int>(m)];
@@ -597,6 +600,7 @@ std::vector<Section> entries(const Config& c) {
                   {"xyz", c.output.xyz},
                   {"snapshot_every", c.output.snapshot_every},
                   {"snapshot_formats", formats},
+                  {"snapshot_precision", str(to_string(c.output.snapshot_precision))},
                   {"checkpoint_every", c.output.checkpoint_every}}};
   if (c.engine.kind != EngineKind::ts) return {system, initial, collision, engine, stop, output};
   return {system, initial, collision, engine, ts, stop, output};

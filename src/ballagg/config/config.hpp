@@ -73,12 +73,15 @@ struct StopConfig {
 };
 
 enum class SnapshotFormat { h5md, xyz };
+// How trajectory.h5md stores positions and velocities: float32 (half the bytes) or float64.
+enum class SnapshotPrecision { single, double_ };
 
 struct OutputConfig {
   double timeseries_interval = 0.0;  // simulated time between extra rows; 0: none
   bool xyz = true;
   double snapshot_every = 0.0;       // simulated time between trajectory frames; 0: none
   std::vector<SnapshotFormat> snapshot_formats{SnapshotFormat::h5md};  // no duplicates
+  SnapshotPrecision snapshot_precision = SnapshotPrecision::single;  // trajectory.h5md positions, velocities
   double checkpoint_every = 300.0;   // wall seconds between checkpoints; 0: none (signals still write one)
 };
 
@@ -122,6 +125,7 @@ std::string_view to_string(InitialPositions p);
 std::string_view to_string(InitialVelocities v);
 std::string_view to_string(EngineKind k);
 std::string_view to_string(SnapshotFormat f);
+std::string_view to_string(SnapshotPrecision p);
 
 std::string_view to_string(CollisionOutcome o);
 std::string_view to_string(Coagulation c);

@@ -1,6 +1,7 @@
 #include "ballagg/core/state.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <limits>
 
 #include "ballagg/collision/laws.hpp"
@@ -8,8 +9,29 @@
 
 namespace ballagg {
 
+namespace {
+
+// The numbers State::layout_version() draws: never the same twice in a process (states are
+// copied, and sweeps run several at once).
+std::uint64_t new_layout_version() {
+  static std::atomic<std::uint64_t> last{0};
+  return last.fetch_add(1, std::memory_order_relaxed) + 1;
+}
+
+}  // namespace
+
+template <int D>
+std::uint64_t State<D>::layout_version() const {
+  if (layout_changed_) {
+    layout_version_ = new_layout_version();
+    layout_changed_ = false;
+  }
+  return layout_version_;
+}
+
 template <int D>
 void State<D>::finalize() {
+  layout_changed();
   min_diameter_ = std::numeric_limits<double>::infinity();
   max_radius_ = 0.0;
   // Mean as r_0 + mean(r_i - r_0): exactly r_0 when all radii are equal.
@@ -108,6 +130,7 @@ int State<D>::merge(int i, int j, double t) {
     spheres.offset[m] += shift;
     spheres.cluster[m] = a;
   }
+  layout_changed();
   keep.lo = keep.lo.cwiseMin(gone.lo + shift);
   keep.hi = keep.hi.cwiseMax(gone.hi + shift);
   const Vec<D> v = stick_velocity(keep.mass, keep.velocity, gone.mass, gone.velocity);
@@ -165,6 +188,7 @@ void State<D>::join_rigid(int keep, int gone, const Vec<D>& x, const Vec<D>& v, 
   add_to_totals(keep, -1.0);
   add_to_totals(gone, -1.0);
   for (int m : clusters[gone].members) spheres.cluster[m] = keep;
+  layout_changed();
   absorb(keep, gone, t);
   place(keep, x, v, t);
   add_to_totals(keep, +1.0);
@@ -180,6 +204,7 @@ int State<D>::coalesce_spheres(int i, int j, double r, const Vec<D>& x, const Ve
   spheres.mass[i] += spheres.mass[j];
   spheres.radius[i] = r;
   spheres.offset[i].setZero();
+  layout_changed();
   max_radius_ = std::max(max_radius_, r);
   min_diameter_ = std::min(min_diameter_, 2.0 * r);
   // Sphere j leaves; the last sphere takes its id.
@@ -209,6 +234,7 @@ int State<D>::coalesce_spheres(int i, int j, double r, const Vec<D>& x, const Ve
 template <int D>
 std::vector<std::int32_t> State<D>::split_rigid(int c, const std::vector<std::int32_t>& empty_clusters, double t) {
   const std::vector<std::int32_t> members = clusters[c].members;
+  layout_changed();
   std::vector<std::int32_t> ids{static_cast<std::int32_t>(c)};
   std::vector<Vec<D>> at(members.size());
   for (std::size_t k = 0; k < members.size(); ++k) at[k] = unwrapped_position(members[k], t);

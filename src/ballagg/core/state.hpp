@@ -115,8 +115,20 @@ class State {
   void translate(int c, const Vec<D>& du, double t);
   // Moves sphere i by du within its cluster (time stepping, non-rigid models). Call
   // refresh_extent on its cluster after moving its spheres.
-  void displace_sphere(int i, const Vec<D>& du) { spheres.offset[i] += du; }
+  void displace_sphere(int i, const Vec<D>& du) {
+    spheres.offset[i] += du;
+    layout_changed();
+  }
   void refresh_extent(int c);
+
+  // The sphere layout: spheres.offset and spheres.cluster. Its version is a number that
+  // no other layout of any state has had in this process: two calls that return the same
+  // value saw the same offsets and cluster ids (trajectory frames then share one copy of
+  // them, run/snapshots.hpp). The methods of State call layout_changed() whenever they
+  // change an offset or a cluster id; code that writes spheres.offset or spheres.cluster
+  // itself must call it too (the rigid-body engine's rotations).
+  void layout_changed() { layout_changed_ = true; }
+  std::uint64_t layout_version() const;
 
   // True when cluster c spans the box along axis a (walls only): it cannot move along a.
   bool pinned(int c, int a) const;
@@ -198,6 +210,10 @@ class State {
   double running_energy_ = 0.0;
   Vec<D> running_momentum_ = Vec<D>::Zero();
   int resync_below_ = 0;
+  // layout_version() draws a new number on its first call after a change (lazily, so
+  // that a change costs a store: displace_sphere runs for every sphere of a step).
+  mutable std::uint64_t layout_version_ = 0;
+  mutable bool layout_changed_ = true;
 };
 
 extern template class State<2>;

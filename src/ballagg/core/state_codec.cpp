@@ -107,6 +107,7 @@ State<D> StateCodec<D>::decode(std::string_view bytes) {
   s.running_momentum_ = r.get<Vec<D>>("momentum");
   s.resync_below_ = r.get<int>("resync threshold");
   r.expect_end();
+  s.layout_changed();
   return s;
 }
 

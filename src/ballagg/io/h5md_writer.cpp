@@ -24,9 +24,18 @@ using hdf5::check;
 using hdf5::Handle;
 using hdf5::Series;
 
-// About 1 MB of doubles per chunk: large enough for fast writes, small enough that
-// reading one sphere's history does not read whole frames.
-constexpr hsize_t kChunkValues = hsize_t{1} << 17;
+// At most this many spheres per chunk of every per-sphere dataset (and per block written):
+// chunks of up to 256 KB (cluster ids) to 1.5 MB (positions, doubles in 3D), large enough
+// for fast writes, small enough that reading one sphere's history does not read whole
+// frames and that a block of every dataset stays in the cache between its assembly and its
+// write. The N spheres are cut into equal chunks (chunk_spheres): a last chunk mostly
+// beyond N would be written whole all the same (5 % of the file at N = 10^6).
+constexpr int kMaxChunkSpheres = 1 << 16;
+
+int chunk_spheres(int n) {
+  const int chunks = std::max(1, (n + kMaxChunkSpheres - 1) / kMaxChunkSpheres);
+  return std::max(1, (n + chunks - 1) / chunks);
+}
 constexpr hsize_t kScalarChunk = 1024;  // records per chunk of step, time and observables
 
 // Bytes of frames after which the written pages are put on disk and dropped from the page
@@ -48,6 +57,19 @@ auto writing(const std::filesystem::path& target, F&& write) {
   }
 }
 
+// One block of per-sphere values, as stored (Real: the precision of positions and velocities).
+template <int D, class Real>
+struct Block {
+  std::vector<Real> position, velocity;
+  std::vector<std::int32_t> image, cluster;
+  void reserve(int spheres, bool periodic) {
+    position.resize(static_cast<std::size_t>(spheres) * D);
+    velocity.resize(static_cast<std::size_t>(spheres) * D);
+    image.resize(periodic ? static_cast<std::size_t>(spheres) * D : 0);
+    cluster.resize(static_cast<std::size_t>(spheres));
+  }
+};
+
 }  // namespace
 
 template <int D>
@@ -56,11 +78,19 @@ struct H5mdWriter<D>::Impl {
   Handle file;
   int n = 0;
   bool periodic = false;
+  SnapshotPrecision precision = SnapshotPrecision::single;
   bool keep = false;  // a checkpoint refers to the temporary file
   std::unique_ptr<Series> step, time, position, image, velocity, cluster, clusters, largest, energy;
   std::size_t unreleased_bytes = 0;  // frame data written since the last release_written_pages
+  Block<D, float> single_block;
+  Block<D, double> double_block;
+  FrameAssembler<D> assembler;
 
-  Impl(const std::string& path, const Particles<D>& p, const std::string& config_toml) {
+  // The file type of positions and velocities (also the type of the blocks in memory).
+  hid_t real_type() const { return precision == SnapshotPrecision::single ? H5T_NATIVE_FLOAT : H5T_NATIVE_DOUBLE; }
+
+  Impl(const std::string& path, const Particles<D>& p, const std::string& config_toml, SnapshotPrecision real)
+      : precision(real) {
     hdf5::quiet_errors();
     target = path;
     temporary = temporary_path_for(path);
@@ -109,13 +139,13 @@ struct H5mdWriter<D>::Impl {
     hdf5::write_dataset(all, "mass", p.mass);
 
     const hsize_t un = static_cast<hsize_t>(n);
-    const hsize_t rows = std::max<hsize_t>(1, kChunkValues / D);
+    const hsize_t rows = static_cast<hsize_t>(chunk_spheres(n));
     const Handle g_position = hdf5::create_group(all, "position");
     step = std::make_unique<Series>(g_position, "step", H5T_NATIVE_INT64, std::vector<hsize_t>{}, kScalarChunk,
                                     Series::Compression::none);
     time = std::make_unique<Series>(g_position, "time", H5T_NATIVE_DOUBLE, std::vector<hsize_t>{}, kScalarChunk,
                                     Series::Compression::none);
-    position = std::make_unique<Series>(g_position, "value", H5T_NATIVE_DOUBLE, std::vector<hsize_t>{un, D}, rows,
+    position = std::make_unique<Series>(g_position, "value", real_type(), std::vector<hsize_t>{un, D}, rows,
                                         Series::Compression::none);
     auto element = [&](hid_t parent, const std::string& name) {
       Handle g = hdf5::create_group(parent, name);
@@ -126,10 +156,10 @@ struct H5mdWriter<D>::Impl {
     if (periodic)
       image = std::make_unique<Series>(element(all, "image"), "value", H5T_NATIVE_INT32, std::vector<hsize_t>{un, D},
                                        rows, Series::Compression::shuffle_deflate);
-    velocity = std::make_unique<Series>(element(all, "velocity"), "value", H5T_NATIVE_DOUBLE,
-                                        std::vector<hsize_t>{un, D}, rows, Series::Compression::none);
+    velocity = std::make_unique<Series>(element(all, "velocity"), "value", real_type(), std::vector<hsize_t>{un, D},
+                                        rows, Series::Compression::none);
     cluster = std::make_unique<Series>(element(all, "cluster"), "value", H5T_NATIVE_INT32, std::vector<hsize_t>{un},
-                                       kChunkValues, Series::Compression::none);
+                                       rows, Series::Compression::none);
     const Handle observables = hdf5::create_group(file, "observables");
     clusters = std::make_unique<Series>(element(observables, "clusters"), "value", H5T_NATIVE_INT32,
                                         std::vector<hsize_t>{}, kScalarChunk, Series::Compression::none);
@@ -143,7 +173,8 @@ struct H5mdWriter<D>::Impl {
   }
 
   // Reopens the temporary file of a checkpointed run at `frames` frames.
-  Impl(const std::string& path, const Particles<D>& p, std::uint64_t frames) : keep(true) {
+  Impl(const std::string& path, const Particles<D>& p, std::uint64_t frames, SnapshotPrecision real)
+      : precision(real), keep(true) {
     hdf5::quiet_errors();
     target = path;
     temporary = temporary_path_for(path);
@@ -172,9 +203,9 @@ struct H5mdWriter<D>::Impl {
     };
     step = series("particles/all/position/step", H5T_NATIVE_INT64, {});
     time = series("particles/all/position/time", H5T_NATIVE_DOUBLE, {});
-    position = series("particles/all/position/value", H5T_NATIVE_DOUBLE, {un, D});
+    position = series("particles/all/position/value", real_type(), {un, D});
     if (periodic) image = series("particles/all/image/value", H5T_NATIVE_INT32, {un, D});
-    velocity = series("particles/all/velocity/value", H5T_NATIVE_DOUBLE, {un, D});
+    velocity = series("particles/all/velocity/value", real_type(), {un, D});
     cluster = series("particles/all/cluster/value", H5T_NATIVE_INT32, {un});
     clusters = series("observables/clusters/value", H5T_NATIVE_INT32, {});
     largest = series("observables/largest_cluster/value", H5T_NATIVE_INT32, {});
@@ -209,20 +240,74 @@ struct H5mdWriter<D>::Impl {
     std::filesystem::remove(temporary, ec);
   }
 
-  void write(const Frame<D>& f) {
-    if (f.size() != n) throw std::logic_error("H5MD frame with a different number of spheres");
-    step->append(&f.step);
-    time->append(&f.time);
-    position->append(f.position.data());
-    if (image) image->append(f.image.data());
-    velocity->append(f.velocity.data());
-    cluster->append(f.cluster.data());
-    const std::int32_t counts[2] = {f.n_clusters, f.largest_cluster};
+  // A frame: the scalars, then the per-sphere values block by block, `fill(begin, end,
+  // block)` putting spheres [begin, end) in the block.
+  template <class Real, class Fill>
+  void write_frame(std::int64_t frame_step, double frame_time, const std::int32_t (&counts)[2], double kinetic_energy,
+                   Block<D, Real>& block, Fill&& fill) {
+    step->append(&frame_step);
+    time->append(&frame_time);
+    position->add_record();
+    if (image) image->add_record();
+    velocity->add_record();
+    cluster->add_record();
+    const int rows = chunk_spheres(n);
+    if (block.cluster.empty()) block.reserve(rows, periodic);
+    for (int begin = 0; begin < n; begin += rows) {
+      const int end = std::min(n, begin + rows);
+      fill(begin, end, block);
+      const hsize_t first = static_cast<hsize_t>(begin), rows = static_cast<hsize_t>(end - begin);
+      position->write_rows(first, rows, block.position.data());
+      if (image) image->write_rows(first, rows, block.image.data());
+      velocity->write_rows(first, rows, block.velocity.data());
+      cluster->write_rows(first, rows, block.cluster.data());
+    }
     clusters->append(&counts[0]);
     largest->append(&counts[1]);
-    energy->append(&f.kinetic_energy);
-    unreleased_bytes += static_cast<std::size_t>(n) * (2 * D * sizeof(double) + sizeof(std::int32_t));
+    energy->append(&kinetic_energy);
+    unreleased_bytes += static_cast<std::size_t>(n) * (2 * D * sizeof(Real) + sizeof(std::int32_t));
     if (unreleased_bytes >= kReleasePagesBytes) release_written_pages();
+  }
+
+  template <class Real>
+  void write_assembled(const Frame<D>& f, Block<D, Real>& block) {
+    const std::int32_t counts[2] = {f.n_clusters, f.largest_cluster};
+    write_frame(f.step, f.time, counts, f.kinetic_energy, block, [&](int begin, int end, Block<D, Real>& b) {
+      for (int i = begin; i < end; ++i) {
+        const std::size_t at = static_cast<std::size_t>(i - begin) * D;
+        for (int a = 0; a < D; ++a) {
+          b.position[at + a] = static_cast<Real>(f.position[i][a]);
+          b.velocity[at + a] = static_cast<Real>(f.velocity[i][a]);
+          if (periodic) b.image[at + a] = f.image[i][a];
+        }
+        b.cluster[i - begin] = f.cluster[i];
+      }
+    });
+  }
+
+  template <class Real>
+  void write_source(const FrameSource<D>& src, Block<D, Real>& block) {
+    const std::int32_t counts[2] = {src.n_clusters, src.largest_cluster};
+    assembler.start(src);
+    write_frame(src.step, src.time, counts, src.kinetic_energy, block, [&](int begin, int end, Block<D, Real>& b) {
+      assembler.assemble(begin, end, b.position.data(), b.velocity.data(), periodic ? b.image.data() : nullptr,
+                         b.cluster.data());
+    });
+  }
+
+  void write(const Frame<D>& f) {
+    if (f.size() != n || f.velocity.size() != f.position.size() || f.cluster.size() != f.position.size() ||
+        f.image.size() != (periodic ? f.position.size() : 0))
+      throw std::logic_error("H5MD frame with a different number of spheres");
+    if (precision == SnapshotPrecision::single) write_assembled(f, single_block);
+    else write_assembled(f, double_block);
+  }
+
+  void write(const FrameSource<D>& src) {
+    if (src.size() != n || src.layout->offset.size() != src.layout->cluster.size() || src.box.periodic() != periodic)
+      throw std::logic_error("H5MD frame with a different number of spheres");
+    if (precision == SnapshotPrecision::single) write_source(src, single_block);
+    else write_source(src, double_block);
   }
 
   // A trajectory is written once and not read back by the run, so its pages need not stay
@@ -256,12 +341,14 @@ struct H5mdWriter<D>::Impl {
 };
 
 template <int D>
-H5mdWriter<D>::H5mdWriter(const std::string& path, const Particles<D>& particles, const std::string& config_toml)
-    : impl_(writing(path, [&] { return std::make_unique<Impl>(path, particles, config_toml); })) {}
+H5mdWriter<D>::H5mdWriter(const std::string& path, const Particles<D>& particles, const std::string& config_toml,
+                          SnapshotPrecision precision)
+    : impl_(writing(path, [&] { return std::make_unique<Impl>(path, particles, config_toml, precision); })) {}
 
 template <int D>
-H5mdWriter<D>::H5mdWriter(const std::string& path, const Particles<D>& particles, std::uint64_t mark)
-    : impl_(std::make_unique<Impl>(path, particles, mark)) {}
+H5mdWriter<D>::H5mdWriter(const std::string& path, const Particles<D>& particles, std::uint64_t mark,
+                          SnapshotPrecision precision)
+    : impl_(std::make_unique<Impl>(path, particles, mark, precision)) {}
 
 template <int D>
 H5mdWriter<D>::~H5mdWriter() = default;
@@ -279,6 +366,12 @@ template <int D>
 void H5mdWriter<D>::write(const Frame<D>& frame) {
   hdf5::quiet_errors();
   writing(impl_->target, [&] { impl_->write(frame); });
+}
+
+template <int D>
+void H5mdWriter<D>::write_source(const FrameSource<D>& source, const std::function<const Frame<D>&()>&) {
+  hdf5::quiet_errors();
+  writing(impl_->target, [&] { impl_->write(source); });
 }
 
 template <int D>

@@ -5,22 +5,27 @@
 //   h5md/                 version = {1, 1}; author/ (name), creator/ (name, version)
 //   particles/all/
 //     box/                dimension = D, boundary = "periodic" | "none" (x D); edges: [D]
-//     position/           step: int64[F], time: double[F], value: double[F][N][D] (folded)
+//     position/           step: int64[F], time: double[F], value: real[F][N][D] (folded)
 //     image/              periodic only: value int32[F][N][D]; unwrapped = position + image * edges
-//     velocity/           value: double[F][N][D]
+//     velocity/           value: real[F][N][D]
 //     cluster/            value: int32[F][N], 0, 1, ... in order of each cluster's first sphere
 //     radius, mass        double[N] (time-independent)
 //   observables/          clusters, largest_cluster (int32[F]), kinetic_energy (double[F])
 //   parameters/           config.toml (the resolved configuration), ballagg_version
 //
-// Every time-dependent group shares position's step and time datasets (hard links).
-// Values are chunked by frame. Images are compressed (shuffle + deflate level 1: nearly all
-// zeros); positions, velocities and cluster ids are not (doubles barely compress, and
-// deflating the ids cost the writer thread more than writing them, measured at N = 10^6).
-// No timestamps are written, so the same run gives a byte-identical file.
+// real is float32 or float64 (output.snapshot_precision): the positions and velocities,
+// computed in double, rounded to nearest once. Every time-dependent group shares position's
+// step and time datasets (hard links). Per-sphere values are chunked by frame and by blocks
+// of at most 65536 spheres, and written block by block, each block assembled right before
+// (FrameAssembler): a frame never exists whole in memory. Images are compressed (shuffle +
+// deflate level 1: nearly all zeros); positions, velocities and cluster ids are not
+// (floats barely compress, and deflating the ids cost the writer thread more than writing
+// them, measured at N = 10^6). No timestamps are written, so the same run gives a
+// byte-identical file.
 #include <memory>
 #include <string>
 
+#include "ballagg/config/config.hpp"
 #include "ballagg/io/frame_sink.hpp"
 
 namespace ballagg {
@@ -30,12 +35,16 @@ class H5mdWriter final : public FrameSink<D> {
  public:
   // Creates a temporary file next to `path`, renamed to `path` by finish(). Throws
   // std::runtime_error if it cannot be created.
-  H5mdWriter(const std::string& path, const Particles<D>& particles, const std::string& config_toml);
+  H5mdWriter(const std::string& path, const Particles<D>& particles, const std::string& config_toml,
+             SnapshotPrecision precision = SnapshotPrecision::single);
   // A resumed run: reopens the temporary file left by a checkpointed one, cut back to
   // `mark` frames (what flush() returned). Throws InputError if it is missing or damaged.
-  H5mdWriter(const std::string& path, const Particles<D>& particles, std::uint64_t mark);
+  H5mdWriter(const std::string& path, const Particles<D>& particles, std::uint64_t mark,
+             SnapshotPrecision precision = SnapshotPrecision::single);
   ~H5mdWriter() override;
   void write(const Frame<D>& frame) override;
+  // The same file as write(assembled()), without the frame of doubles in between.
+  void write_source(const FrameSource<D>& source, const std::function<const Frame<D>&()>& assembled) override;
   void finish() override;
   // H5Fflush: the file on disk holds every frame so far. The mark: frames written.
   std::uint64_t flush() override;

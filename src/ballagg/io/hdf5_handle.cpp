@@ -84,6 +84,7 @@ Handle scalar_space() { return {check(H5Screate(H5S_SCALAR), "dataspace"), H5Scl
 template <class T>
 hid_t native_type() {
   if constexpr (std::is_same_v<T, double>) return H5T_NATIVE_DOUBLE;
+  else if constexpr (std::is_same_v<T, float>) return H5T_NATIVE_FLOAT;
   else if constexpr (std::is_same_v<T, std::int64_t>) return H5T_NATIVE_INT64;
   else return H5T_NATIVE_INT32;
 }
@@ -206,27 +207,40 @@ Series::Series(hid_t parent, const std::string& name, hid_t type, std::vector<hs
   check(H5Pset_chunk_cache(dapl, 0, 0, 1.0), "dataset access");
   dataset_ = Handle(check(H5Dopen2(parent, name.c_str(), dapl), "no dataset " + name), H5Dclose);
   std::vector<hsize_t> dims = dimensions(dataset_);
-  if (dims.size() != inner_.size() + 1 || !std::equal(inner_.begin(), inner_.end(), dims.begin() + 1) || dims[0] < records)
+  const Handle stored(check(H5Dget_type(dataset_), "type of dataset " + name), H5Tclose);
+  if (dims.size() != inner_.size() + 1 || !std::equal(inner_.begin(), inner_.end(), dims.begin() + 1) ||
+      dims[0] < records || H5Tequal(stored, type_) <= 0)
     throw std::runtime_error(fmt::format("dataset {}: not the series a checkpoint refers to", name));
   dims[0] = records;
   check(H5Dset_extent(dataset_, dims.data()), "cut back dataset " + name);
 }
 
 void Series::append(const void* data) {
-  std::vector<hsize_t> dims{records_ + 1}, start{records_}, count{1};
-  for (hsize_t d : inner_) {
-    dims.push_back(d);
-    start.push_back(0);
-    count.push_back(d);
-  }
+  add_record();
+  write_rows(0, inner_.empty() ? 1 : inner_[0], data);
+}
+
+void Series::add_record() {
+  std::vector<hsize_t> dims{records_ + 1};
+  dims.insert(dims.end(), inner_.begin(), inner_.end());
   check(H5Dset_extent(dataset_, dims.data()), "extend dataset");
+  ++records_;
+}
+
+void Series::write_rows(hsize_t first, hsize_t rows, const void* data) {
+  if (records_ == 0) throw std::logic_error("Series::write_rows before add_record");
+  // The selection: record records_ - 1, rows [first, first + rows), everything inward.
+  std::vector<hsize_t> start{records_ - 1}, count{1};
+  for (std::size_t k = 0; k < inner_.size(); ++k) {
+    start.push_back(k == 0 ? first : 0);
+    count.push_back(k == 0 ? rows : inner_[k]);
+  }
   const Handle file_space(check(H5Dget_space(dataset_), "dataspace"), H5Sclose);
   check(H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start.data(), nullptr, count.data(), nullptr), "select");
-  const Handle memory_space = simple_space(std::vector<hsize_t>(count.begin() + 1, count.end()).empty()
-                                               ? std::vector<hsize_t>{1}
-                                               : std::vector<hsize_t>(count.begin() + 1, count.end()));
+  const std::vector<hsize_t> memory = count.size() > 1 ? std::vector<hsize_t>(count.begin() + 1, count.end())
+                                                        : std::vector<hsize_t>{1};
+  const Handle memory_space = simple_space(memory);
   check(H5Dwrite(dataset_, type_, memory_space, file_space, H5P_DEFAULT, data), "write record");
-  ++records_;
 }
 
 template <class T>

@@ -91,10 +91,14 @@ class Series {
          Compression compression);
   // Reopens the series `name` of an existing file, cut back to its first `records`
   // (a resumed run: records written after its checkpoint are dropped). Throws
-  // std::runtime_error if it is not such a series or holds fewer records.
+  // std::runtime_error if it is not such a series (shape or type) or holds fewer records.
   Series(hid_t parent, const std::string& name, hid_t type, std::vector<hsize_t> inner, hsize_t records);
   // Appends one record of prod(inner) values of the native type at `data`.
   void append(const void* data);
+  // Appends one record to be written in parts (write_rows); until then it holds zeros.
+  void add_record();
+  // Rows [first, first + rows) of the inner dimension's first axis of the last record.
+  void write_rows(hsize_t first, hsize_t rows, const void* data);
   hid_t id() const { return dataset_; }
   hsize_t records() const { return records_; }
 

@@ -16,7 +16,7 @@ SnapshotRecorder<D>::SnapshotRecorder(double every, std::vector<std::unique_ptr<
 
 template <int D>
 void SnapshotRecorder<D>::take(const State<D>& s, double t) {
-  capture_source(s, t, events_, mirror_at_walls_, writer_.acquire());
+  capture_source(s, t, events_, mirror_at_walls_, writer_.acquire(), layouts_);
   writer_.submit();
   ++frames_;
   last_time_ = t;
@@ -102,8 +102,9 @@ std::unique_ptr<SnapshotRecorder<D>> make_snapshot_recorder(const Config& c, con
     const SnapshotFormat f = c.output.snapshot_formats[k];
     const std::string path = (std::filesystem::path(dir) / (f == SnapshotFormat::h5md ? "trajectory.h5md" : "trajectory.xyz")).string();
     if (f == SnapshotFormat::h5md) {
-      if (saved) sinks.push_back(std::make_unique<H5mdWriter<D>>(path, particles, marks[k]));
-      else sinks.push_back(std::make_unique<H5mdWriter<D>>(path, particles, to_toml_text(c)));
+      const SnapshotPrecision precision = c.output.snapshot_precision;
+      if (saved) sinks.push_back(std::make_unique<H5mdWriter<D>>(path, particles, marks[k], precision));
+      else sinks.push_back(std::make_unique<H5mdWriter<D>>(path, particles, to_toml_text(c), precision));
     } else {
       if (saved) sinks.push_back(std::make_unique<XyzTrajectoryWriter<D>>(path, particles, marks[k]));
       else sinks.push_back(std::make_unique<XyzTrajectoryWriter<D>>(path, particles));

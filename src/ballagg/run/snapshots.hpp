@@ -45,6 +45,7 @@ class SnapshotRecorder final : public RunObserver<D> {
   void take(const State<D>& s, double t);
 
   double every_;
+  LayoutCopies<D> layouts_;  // the frames' sphere layouts, shared while the state's is unchanged
   BackgroundWriter<D> writer_;
   bool mirror_at_walls_;
   std::int64_t next_k_ = 1;

@@ -205,6 +205,7 @@ std::vector<std::int32_t> RigidBodies<D>::fragment(State<D>& s, int c, double re
 template <int D>
 void RigidBodies<D>::write_offsets(State<D>& s, int c, double t) const {
   const Cluster<D>& k = s.clusters[c];
+  s.layout_changed();
   if (k.size() == 1) {
     s.spheres.offset[k.members.front()].setZero();
     s.spin[c].angular_velocity = body_[c].rotation.at(t).angular_velocity;
