@@ -256,11 +256,11 @@ struct H5mdWriter<D>::Impl {
     for (int begin = 0; begin < n; begin += rows) {
       const int end = std::min(n, begin + rows);
       fill(begin, end, block);
-      const hsize_t first = static_cast<hsize_t>(begin), rows = static_cast<hsize_t>(end - begin);
-      position->write_rows(first, rows, block.position.data());
-      if (image) image->write_rows(first, rows, block.image.data());
-      velocity->write_rows(first, rows, block.velocity.data());
-      cluster->write_rows(first, rows, block.cluster.data());
+      const hsize_t first = static_cast<hsize_t>(begin), count = static_cast<hsize_t>(end - begin);
+      position->write_rows(first, count, block.position.data());
+      if (image) image->write_rows(first, count, block.image.data());
+      velocity->write_rows(first, count, block.velocity.data());
+      cluster->write_rows(first, count, block.cluster.data());
     }
     clusters->append(&counts[0]);
     largest->append(&counts[1]);
