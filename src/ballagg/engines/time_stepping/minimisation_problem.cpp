@@ -61,7 +61,8 @@ void add_guards(const ProblemContext<D>& ctx, const CollisionGroup& g, int fixed
   const std::size_t first = prob.pairs.size();
   // The pairs of S already in the problem (those of the group: a pair of S joins two bodies
   // of one group), sorted, to leave them out. Asking S itself was a hash lookup per
-  // neighbour, most of them cache misses while S is large (10 % of a run at N = 10^6).
+  // neighbour, most of them cache misses while S is large (about 10 % of the early steps at
+  // N = 10^6, docs/performance.md).
   std::vector<std::uint64_t> in_s;
   for (std::size_t k = 0; k < first; ++k) in_s.push_back(key(sphere_pairs[k].i, sphere_pairs[k].j));
   std::sort(in_s.begin(), in_s.end());
