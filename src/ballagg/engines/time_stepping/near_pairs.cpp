@@ -47,7 +47,8 @@ void NearPairs<D>::merged(int a, int b, int into) {
 
 template <int D>
 std::vector<SpherePair> NearPairs<D>::contacts(const State<D>& s, const std::vector<Vec<D>>& positions,
-                                               const std::function<const SortedCellList<D>&()>& cells) {
+                                               const std::function<const SortedCellList<D>&()>& cells,
+                                               const std::function<void(const std::vector<std::int32_t>&)>& need) {
   std::vector<int> stale_spheres;
   bool never_listed = false;
   for (int c : s.alive_clusters()) {
@@ -62,6 +63,11 @@ std::vector<SpherePair> NearPairs<D>::contacts(const State<D>& s, const std::vec
   } else if (!stale_spheres.empty()) {
     refresh(s, cells(), positions, stale_spheres);
     ++partial_scans_;
+  } else {
+    std::vector<std::int32_t> listed;
+    listed.reserve(2 * pairs_.size());
+    for (const Pair& p : pairs_) listed.insert(listed.end(), {p.i, p.j});
+    need(listed);
   }
   // Test the listed pairs; those now inside one cluster (merged) are dropped for good.
   std::vector<SpherePair> touching;

@@ -42,10 +42,13 @@ class NearPairs {
 
   // Lists the pairs of the stale clusters again, with the spheres at `positions`, and
   // returns every pair of spheres of different clusters that overlaps or touches
-  // (d <= R_i + R_j), sorted by (i, j). `cells()` returns the cell list of `positions`; it
-  // is called only when some cluster is stale.
+  // (d <= R_i + R_j), sorted by (i, j). `cells()` returns the cell list of `positions`,
+  // every entry of it filled; it is called only when some cluster is stale. Otherwise
+  // only the spheres of the listed pairs are read, and `need(spheres)` is called first
+  // with them (the caller fills their entries of `positions` then).
   std::vector<SpherePair> contacts(const State<D>& s, const std::vector<Vec<D>>& positions,
-                                   const std::function<const SortedCellList<D>&()>& cells);
+                                   const std::function<const SortedCellList<D>&()>& cells,
+                                   const std::function<void(const std::vector<std::int32_t>&)>& need);
 
   // Detections that scanned the whole box (the first, and those where the stale clusters
   // held more than kFullScanFraction of the spheres), and those that refreshed a part.
