@@ -87,7 +87,7 @@ class TimeSteppingEngine final : public Engine<D> {
   void step(State<D>& s, double t, RunObserver<D>& observer);
   bool outside_walls(const State<D>& s) const;
   void advect(State<D>& s, double dt);
-  void bin(const State<D>& s);
+  void defer_positions(const State<D>& s);
   void materialise_positions();
   void materialise_positions(const std::vector<std::int32_t>& spheres);
   void rebin();
@@ -121,7 +121,7 @@ class TimeSteppingEngine final : public Engine<D> {
   EngineCounters counters_;
   std::optional<Box<D>> box_;
   std::vector<Vec<D>> positions_;            // sphere centres at the current time, in the box
-  const State<D>* positions_of_ = nullptr;   // positions_ not yet computed for this step (lazy, bin)
+  const State<D>* positions_of_ = nullptr;   // set: positions_ not yet computed for this step's time
   std::vector<Vec<D>> step_shift_;           // per sphere: its displacement by this step's minimisations
   std::vector<Vec<D>> moved_since_binning_;  // per sphere, for the staleness of the cell list
   std::vector<Vec<D>> flight_;               // per cluster: its displacement by this step's free flight
@@ -185,7 +185,7 @@ template <int D>
 void TimeSteppingEngine<D>::step(State<D>& s, double t, RunObserver<D>& observer) {
   observer.before_event(s, t);
   advect(s, t - s.time);
-  bin(s);
+  defer_positions(s);
   detect_overlaps(s);
   resolve(s);
   EventRecord record;
@@ -213,6 +213,7 @@ void TimeSteppingEngine<D>::prepare(const State<D>& s) {
   delta_w_ = settings_.delta_w.value_or(4.0 * s.mean_radius());
   mean_mass_ = s.total_mass() / n;
   positions_.resize(n);
+  positions_of_ = nullptr;
   step_shift_.assign(n, Vec<D>::Zero());
   moved_since_binning_.assign(n, Vec<D>::Zero());
   cells_.emplace(s.box, (2.0 + kGridMargin) * s.max_radius(), n);
@@ -283,12 +284,12 @@ void TimeSteppingEngine<D>::advect(State<D>& s, double dt) {
 // fragments looking for it, thousands of steps) such a step reads only the listed near
 // pairs, and computing 10^6 positions was 42 % of it (docs/performance.md).
 template <int D>
-void TimeSteppingEngine<D>::bin(const State<D>& s) {
+void TimeSteppingEngine<D>::defer_positions(const State<D>& s) {
   positions_of_ = &s;
   cells_binned_ = false;
 }
 
-// Every sphere's position at the step's time (what bin() put off).
+// Every sphere's position at the step's time (what defer_positions put off).
 template <int D>
 void TimeSteppingEngine<D>::materialise_positions() {
   if (positions_of_ == nullptr) return;
