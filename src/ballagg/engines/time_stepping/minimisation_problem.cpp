@@ -150,8 +150,12 @@ GroupSolution<D> solve_rigid(const ProblemContext<D>& ctx, const CollisionGroup&
 }
 
 // Start positions of the group's spheres, unwrapped (one image of the whole group, even
-// when it is wider than a periodic box): within a cluster from the body offsets, and from
-// cluster to cluster across the pairs of S and the links that join them.
+// when it is wider than a periodic box): within a cluster from the sphere offsets plus what
+// this step's earlier rounds moved each sphere (the state moves only at the end of the step;
+// without the step's shifts the attraction acted on where the spheres were at the start of
+// the step and pushed each sphere a round had moved further the same way at every later
+// round: links opened by 100 diameters at N = 100), and from cluster to cluster across the
+// pairs of S and the links that join them.
 template <int D>
 std::vector<Vec<D>> unwrapped_starts(const ProblemContext<D>& ctx, const CollisionGroup& g,
                                      const std::vector<std::pair<std::int32_t, std::int32_t>>& clusters,
@@ -162,8 +166,9 @@ std::vector<Vec<D>> unwrapped_starts(const ProblemContext<D>& ctx, const Collisi
   for (std::size_t k = 0; k < clusters.size(); ++k) index_of_cluster.emplace(clusters[k].first, static_cast<int>(k));
   std::vector<char> placed(clusters.size(), 0);
   auto place = [&](int k, int known_sphere, const Vec<D>& at) {
+    const Vec<D> known = s.spheres.offset[known_sphere] + ctx.step_shift[known_sphere];
     for (int m : s.clusters[clusters[k].first].members)
-      x[local.at(m)] = at + s.spheres.offset[m] - s.spheres.offset[known_sphere];
+      x[local.at(m)] = at + (s.spheres.offset[m] + ctx.step_shift[m]) - known;
     placed[k] = 1;
   };
   std::vector<SpherePair> joins;
