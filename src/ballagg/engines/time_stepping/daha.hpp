@@ -52,6 +52,9 @@ struct DahaProblem {
   // gradient n (X_a - mean X) costs O(n); `position` holds the starting X_a (scaled,
   // unwrapped). Empty: no such term.
   std::vector<Vec<D>> position;
+  // Walls: per variable, the box of displacements (scaled) that keeps its spheres between
+  // the walls; empty: no bounds (periodic boxes). The minimiser projects on it.
+  std::vector<Vec<D>> lower, upper;
   double range = 0.0;                 // Delta_W (scaled), for attract_within_range pairs
   int n_spheres = 0;                  // spheres involved: the sqrt(N) of (3.29)
 };

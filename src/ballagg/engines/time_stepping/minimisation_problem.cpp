@@ -1,6 +1,7 @@
 #include "ballagg/engines/time_stepping/minimisation_problem.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <unordered_map>
 
 #include "ballagg/spatial/sorted_cell_list.hpp"
@@ -94,6 +95,27 @@ void add_guards(const ProblemContext<D>& ctx, const CollisionGroup& g, int fixed
   std::copy(guarded.begin(), guarded.end(), sphere_pairs.begin() + first);
 }
 
+// The walls as bounds on the displacements (DahaProblem::lower/upper), from each variable's
+// bounding box [lo, hi] (radii included, unscaled): it may move towards a wall until it
+// touches it, and not at all into a wall it already pokes through (the next step moves it
+// back). A variable wider than the box along an axis is left free along it.
+template <int D>
+void bound_by_walls(const ProblemContext<D>& ctx, const std::vector<Vec<D>>& lo, const std::vector<Vec<D>>& hi,
+                    DahaProblem<D>& prob) {
+  const Box<D>& box = ctx.state.box;
+  if (box.periodic()) return;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const std::size_t n = prob.inverse_mass.size();
+  prob.lower.assign(n, Vec<D>::Constant(-inf));
+  prob.upper.assign(n, Vec<D>::Constant(inf));
+  for (std::size_t k = 0; k < lo.size(); ++k)
+    for (int a = 0; a < D; ++a) {
+      if (!(lo[k][a] <= hi[k][a]) || hi[k][a] - lo[k][a] > box.length) continue;  // no spheres, or too wide
+      prob.lower[k][a] = std::min(0.0, -lo[k][a]) / ctx.length_scale;
+      prob.upper[k][a] = std::max(0.0, box.length - hi[k][a]) / ctx.length_scale;
+    }
+}
+
 // The pairs that touch (|d / sigma - 1| <= eps_c) at the solution u.
 template <int D>
 std::vector<SpherePair> touching_pairs(const DahaProblem<D>& prob, const std::vector<SpherePair>& sphere_pairs,
@@ -130,6 +152,18 @@ GroupSolution<D> solve_rigid(const ProblemContext<D>& ctx, const CollisionGroup&
   std::sort(touching.begin(), touching.end());
   prob.n_spheres = static_cast<int>(std::unique(touching.begin(), touching.end()) - touching.begin());
   add_guards(ctx, g, fixed, prob, sphere_pairs);
+  if (!s.box.periodic()) {
+    // Each body's bounding box from its clusters' (O(1) per cluster): every sphere of a
+    // cluster has the same step shift in this model.
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    std::vector<Vec<D>> lo(g.bodies.size(), Vec<D>::Constant(inf)), hi(g.bodies.size(), Vec<D>::Constant(-inf));
+    for (const auto& [c, b] : clusters) {
+      const Vec<D> at = s.origin(c, s.time) + ctx.step_shift[s.clusters[c].members.front()];
+      lo[b] = lo[b].cwiseMin(at + s.clusters[c].lo);
+      hi[b] = hi[b].cwiseMax(at + s.clusters[c].hi);
+    }
+    bound_by_walls(ctx, lo, hi, prob);
+  }
 
   GroupSolution<D> out;
   std::vector<Vec<D>> u;
@@ -249,6 +283,16 @@ GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionG
     mass[it->second] += m;
   }
   for (double m : mass) prob.inverse_mass.push_back(ctx.mean_mass / m);
+  if (!s.box.periodic()) {
+    constexpr double inf = std::numeric_limits<double>::infinity();
+    std::vector<Vec<D>> lo(mass.size(), Vec<D>::Constant(inf)), hi(mass.size(), Vec<D>::Constant(-inf));
+    for (std::size_t a = 0; a < spheres.size(); ++a) {
+      const double r = s.spheres.radius[spheres[a]];
+      lo[variable[a]] = lo[variable[a]].cwiseMin(x[a] - Vec<D>::Constant(r));
+      hi[variable[a]] = hi[variable[a]].cwiseMax(x[a] + Vec<D>::Constant(r));
+    }
+    bound_by_walls(ctx, lo, hi, prob);
+  }
 
   std::unordered_map<std::uint64_t, int> index;  // pair key -> position in prob.pairs
   std::vector<SpherePair> sphere_pairs;  // of each pair of the problem
