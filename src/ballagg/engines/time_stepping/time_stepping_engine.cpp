@@ -166,9 +166,9 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
     }
     step(s, std::min(s.time + dt, stop.time), observer);
   }
-  // The final state lies inside the walls. The last minimisation may have pushed a cluster
-  // through one; the next step would have moved it back and resolved the overlaps that
-  // creates, and so do steps of zero length here. Should they not settle, the clusters are
+  // The final state lies inside the walls. A cluster may have ended the last step a little
+  // through one (see commit); the next step would have moved it back and resolved the
+  // overlaps that creates, and so do steps of zero length here. Should they not settle, the clusters are
   // moved back all the same (summary.json's max_overlap then shows what is left).
   if (!s.box.periodic()) {
     for (int k = 0; k < kFinalWallSteps && outside_walls(s); ++k) step(s, s.time, observer);
@@ -684,8 +684,10 @@ int TimeSteppingEngine<D>::commit(State<D>& s) {
   for (int i : moved_in_step_) step_shift_[i].setZero();
   moved_in_step_.clear();
   bodies_.clear();
-  // A cluster the minimisation pushed partly through a wall is moved back at the start of
-  // the next step, before the overlap detection (moving it now could create overlaps).
+  // The minimisations do not push clusters through walls (their bounds), but a cluster as
+  // wide as the box can end a step a little through one (a retreat takes it back along a
+  // flight that began there): it is moved back at the start of the next step, before the
+  // overlap detection (moving it now could create overlaps).
   return merges;
 }
 
