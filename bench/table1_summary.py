@@ -26,12 +26,17 @@ def num(r, k):
         return math.nan
 
 
+def points_of(d):
+    """point id -> its row of DIR/sweep.csv."""
+    with open(f"{d}/sweep.csv", newline="") as f:
+        return {r["point"]: r for r in csv.DictReader(f)}
+
+
 def runs_of(dirs):
     """(variant, N, Vf, realization) -> row of runs.csv, with the point's variant."""
     out = {}
     for d in dirs:
-        with open(f"{d}/sweep.csv", newline="") as f:
-            points = {r["point"]: r for r in csv.DictReader(f)}
+        points = points_of(d)
         with open(f"{d}/runs.csv", newline="") as f:
             for r in csv.DictReader(f):
                 if r["stop_reason"] == "wall_seconds":
@@ -54,6 +59,20 @@ def paired(runs, variant, n, vf, column):
     m = sum(diffs) / len(diffs)
     se = math.sqrt(sum((d - m) ** 2 for d in diffs) / (len(diffs) * (len(diffs) - 1)))
     return m, se, len(diffs)
+
+
+def pair_distribution_at(dirs, r_over_R):
+    """(variant, N, Vf) -> (mean, sem) of P(r) at r = r_over_R R (sweep_pair_distribution.csv)."""
+    out = {}
+    for d in dirs:
+        points = points_of(d)
+        with open(f"{d}/sweep_pair_distribution.csv", newline="") as f:
+            for r in csv.DictReader(f):
+                if abs(num(r, "r_over_R") - r_over_R) < 1e-9:
+                    p = points[r["point"]]
+                    variant = "ed" if p["method"] == "ed" else p["variant"]
+                    out[(variant,) + key(p)] = (num(r, "P_all_mean"), num(r, "P_all_sem"))
+    return out
 
 
 def key(r):
@@ -133,6 +152,15 @@ def main(dirs):
     side_by_side("contacts_with_self", "N_c (4.5) as printed (with i = j)")
     side_by_side("contacts", "N_c (4.5), pairs i != j")
     side_by_side("correlation_dimension", "Correlation dimension (slope of P(r), 4R ... 20R)")
+    p20 = pair_distribution_at(dirs, 20.0)
+    print("\n### P(r) (4.6) at r = 20R: mean ± standard deviation of the mean over the realizations\n")
+    print("| N | Vf | ed | " + " | ".join(variants) + " |")
+    print("|" + "---|" * (len(variants) + 3))
+    for n in ns:
+        for vf in vfs:
+            cells = [("—" if (m, n, vf) not in p20 else f"{p20[(m, n, vf)][0]:.1f} ± {p20[(m, n, vf)][1]:.1f}")
+                     for m in ["ed"] + variants]
+            print(f"| {n} | {vf:g} | " + " | ".join(cells) + " |")
     side_by_side("largest_aspect_ratio", "Aspect ratio A_r (4.3)", 2)
     side_by_side("largest_orientation_x_abs", "|D_x| of the orientation (4.4)", 2)
     side_by_side("wall_seconds", "Wall time (s) of the engine", 3)

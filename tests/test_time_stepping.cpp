@@ -166,30 +166,43 @@ TEST_P(TimeStepping, Invariants3DPeriodic) {
   expect_invariants_every_step<3>(GetParam(), Boundary::periodic, size_for(GetParam(), 200), 0.2, 6);
 }
 
+// The paper's set-up of Table 1 (lattice start, speed 1 in random directions, R = 0.2,
+// walls).
+template <int D>
+State<D> table1_state(int n, double volume_fraction, std::uint64_t seed) {
+  Config c = testing::small_config(D, n, volume_fraction, Boundary::walls, seed);
+  c.system.radius = 0.2;
+  c.initial.positions = InitialPositions::lattice;
+  c.initial.velocities = InitialVelocities::fixed_speed;
+  return make_initial_state<D>(c);
+}
+
+// How deep the deepest sphere is in a wall (0 when none is).
+template <int D>
+double deepest_in_a_wall(const State<D>& s) {
+  double worst = 0.0;
+  for (int i = 0; i < s.n_spheres(); ++i)
+    for (int a = 0; a < D; ++a) {
+      const double x = s.position(i, s.time)[a], r = s.spheres.radius[i];
+      worst = std::max({worst, r - x, x + r - s.box.length});
+    }
+  return worst;
+}
+
 // The minimisations see the walls (bounds on the displacements): no sphere is ever pushed
 // through one. Without them a 3D run in a small walled box (Vf 0.3, 200 spheres, 7 diameters
 // wide) ended with its one cluster wider than the box (61 spheres through a wall, rigid
 // model, seed 1; the verify command's box check).
 TEST_P(TimeStepping, NoSphereIsPushedThroughAWall) {
   for (std::uint64_t seed : {1, 2}) {
-    Config c = testing::small_config(3, 200, 0.3, Boundary::walls, seed);
-    c.system.radius = 0.2;
-    c.initial.positions = InitialPositions::lattice;
-    c.initial.velocities = InitialVelocities::fixed_speed;
-    State<3> s = make_initial_state<3>(c);
+    State<3> s = table1_state<3>(200, 0.3, seed);
     const TimeSteppingSettings ts = settings(GetParam(), 0.005);
-    const double slack = ts.daha.eps_c * 2.0 * c.system.radius;  // as `ballagg verify`
-    double worst = 0.0;                                            // deepest sphere in a wall
+    double worst = 0.0;
     Recorder<3> rec;
-    rec.check = [&](const State<3>& st, const EventRecord&) {
-      for (int i = 0; i < st.n_spheres(); ++i)
-        for (int a = 0; a < 3; ++a) {
-          const double x = st.position(i, st.time)[a], r = st.spheres.radius[i];
-          worst = std::max({worst, r - x, x + r - st.box.length});
-        }
-    };
+    rec.check = [&](const State<3>& st, const EventRecord&) { worst = std::max(worst, deepest_in_a_wall(st)); };
     const RunResult r = run_ts(s, ts, until(1e4, 1), &rec);
     EXPECT_EQ(r.reason, StopReason::clusters) << "seed " << seed;
+    const double slack = ts.daha.eps_c * 2.0 * 0.2;  // as `ballagg verify`
     EXPECT_LE(worst, slack) << "seed " << seed << " after " << r.counters.steps << " steps";
   }
 }
@@ -201,27 +214,15 @@ TEST_P(TimeStepping, NoSphereIsPushedThroughAWall) {
 // and 2 of the sweep: one of them never reached one cluster).
 TEST(TimeSteppingModels, NonRigidClustersStayCompactAndInsideTheWalls) {
   for (std::uint64_t seed : {1, 2}) {
-    Config c = testing::small_config(2, 100, 0.1, Boundary::walls, seed);
-    c.system.radius = 0.2;
-    c.initial.positions = InitialPositions::lattice;
-    c.initial.velocities = InitialVelocities::fixed_speed;
-    State<2> s = make_initial_state<2>(c);
+    State<2> s = table1_state<2>(100, 0.1, seed);
     const TimeSteppingSettings ts = settings(TsModel::non_rigid, 0.005);
-    const double L = s.box.length;
-    bool inside = true;
+    double worst = 0.0;
     Recorder<2> rec;
-    rec.check = [&](const State<2>& st, const EventRecord&) {
-      for (int i = 0; i < st.n_spheres(); ++i)
-        for (int a = 0; a < 2; ++a) {
-          // A minimisation may push a cluster a little through a wall (it is moved back at
-          // the next step): one diameter of slack.
-          const double x = st.position(i, st.time)[a];
-          if (x < -2.0 * c.system.radius || x > L + 2.0 * c.system.radius) inside = false;
-        }
-    };
+    rec.check = [&](const State<2>& st, const EventRecord&) { worst = std::max(worst, deepest_in_a_wall(st)); };
     const RunResult r = run_ts(s, ts, until(1e4, 1), &rec);
     EXPECT_EQ(r.reason, StopReason::clusters) << "seed " << seed;
-    EXPECT_TRUE(inside) << "seed " << seed << ": a sphere left the box";
+    // One diameter of slack: this test is about spheres flung across the box.
+    EXPECT_LE(worst, 0.4) << "seed " << seed << ": a sphere left the box";
     // Links open while others close (the model does not keep them), by about one contact
     // distance here; 100 before the fix.
     EXPECT_LT(r.counters.max_link_stretch, 2.0) << "seed " << seed;
