@@ -134,7 +134,8 @@ def main(dirs):
                         cells.append("—")
                     else:
                         cells.append(f"{num(r, column + '_mean'):.{digits}f} ± {num(r, column + '_sem'):.{digits}f}")
-                print(f"| {n} | {vf:g} | " + " | ".join(cells) + " |")
+                if any(c != "—" for c in cells):  # a point no sweep ran is left out
+                    print(f"| {n} | {vf:g} | " + " | ".join(cells) + " |")
 
     runs = runs_of(dirs)
     print("\n### Paired differences D_f,TS - D_f,ED (same seeds), mean ± standard error, in units of 10^-3\n")
@@ -160,7 +161,8 @@ def main(dirs):
         for vf in vfs:
             cells = [("—" if (m, n, vf) not in p20 else f"{p20[(m, n, vf)][0]:.1f} ± {p20[(m, n, vf)][1]:.1f}")
                      for m in ["ed"] + variants]
-            print(f"| {n} | {vf:g} | " + " | ".join(cells) + " |")
+            if any(c != "—" for c in cells):
+                print(f"| {n} | {vf:g} | " + " | ".join(cells) + " |")
     side_by_side("largest_aspect_ratio", "Aspect ratio A_r (4.3)", 2)
     side_by_side("largest_orientation_x_abs", "|D_x| of the orientation (4.4)", 2)
     side_by_side("wall_seconds", "Wall time (s) of the engine", 3)
