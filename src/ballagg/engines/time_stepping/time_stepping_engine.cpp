@@ -113,6 +113,7 @@ class TimeSteppingEngine final : public Engine<D> {
   void for_each_contact(const State<D>& s, const std::vector<int>& spheres, F&& f) const;
   template <class F>
   void contact_pass(const State<D>& s, const std::vector<int>& moved, F&& f);
+  void forget_outdated_sightings();
   double residual_overlap();
 
   ProblemContext<D> context(const State<D>& s) const {
@@ -148,6 +149,7 @@ class TimeSteppingEngine final : public Engine<D> {
   };
   std::vector<std::int32_t> last_pass_;
   std::int32_t pass_ = 0;                    // the next contact pass of the step
+  std::size_t forget_at_ = kSightingsKept;   // records beyond which the outdated are dropped
   std::vector<std::vector<Sighting>> sightings_;
   double length_scale_ = 1.0, delta_w_ = 0.0, mean_mass_ = 1.0;
   std::optional<TimeStepRule> rule_;         // from the state at the start of the run
@@ -233,6 +235,7 @@ void TimeSteppingEngine<D>::prepare(const State<D>& s) {
   moved_since_binning_.assign(n, Vec<D>::Zero());
   last_pass_.assign(n, -1);
   pass_ = 0;
+  forget_at_ = kSightingsKept;
   sightings_.assign(max_threads(), {});
   cells_.emplace(s.box, (2.0 + kGridMargin) * s.max_radius(), n);
   cell_slack_ = cells_->cell_size() - 2.0 * s.max_radius();
@@ -636,6 +639,7 @@ void TimeSteppingEngine<D>::for_each_contact(const State<D>& s, const std::vecto
 template <int D>
 template <class F>
 void TimeSteppingEngine<D>::contact_pass(const State<D>& s, const std::vector<int>& moved, F&& f) {
+  forget_outdated_sightings();
   const std::int32_t pass = pass_++;
   const double largest_so_far = counters_.max_residual_overlap;
   for_each_contact(s, moved, [&](int i, int j, double d, double sigma) {
@@ -643,6 +647,22 @@ void TimeSteppingEngine<D>::contact_pass(const State<D>& s, const std::vector<in
     if (overlap > largest_so_far) sightings_[thread_index()].push_back({i, j, pass, overlap});
     f(i, j, d, sigma);
   });
+}
+
+// A sighting is out of date once a later pass moved one of its spheres (below). The first
+// steps of a large run see millions of overlaps in many rounds, most soon out of date:
+// they are dropped whenever the records have doubled since the last time.
+template <int D>
+void TimeSteppingEngine<D>::forget_outdated_sightings() {
+  std::size_t total = 0;
+  for (const auto& seen : sightings_) total += seen.size();
+  if (total <= forget_at_) return;
+  total = 0;
+  for (auto& seen : sightings_) {
+    std::erase_if(seen, [&](const Sighting& k) { return k.pass < std::max(last_pass_[k.i], last_pass_[k.j]); });
+    total += seen.size();
+  }
+  forget_at_ = std::max(2 * total, kSightingsKept);
 }
 
 // The largest relative overlap left at the end of the step between a sphere the step moved
@@ -664,6 +684,7 @@ double TimeSteppingEngine<D>::residual_overlap() {
   }
   for (int i : moved_in_step_) last_pass_[i] = -1;
   pass_ = 0;
+  forget_at_ = kSightingsKept;
   return largest;
 }
 
