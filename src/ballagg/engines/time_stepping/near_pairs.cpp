@@ -72,9 +72,12 @@ std::vector<SpherePair> NearPairs<D>::contacts(const State<D>& s, const std::vec
   // Test the listed pairs; those now inside one cluster (merged) are dropped for good.
   std::vector<SpherePair> touching;
   std::size_t kept = 0;
+  ++listing_;
+  listed_at_.resize(s.n_spheres(), -1);
   for (const Pair& p : pairs_) {
     if (s.spheres.cluster[p.i] == s.spheres.cluster[p.j]) continue;
     pairs_[kept++] = p;
+    listed_at_[p.i] = listed_at_[p.j] = listing_;
     const double contact = s.spheres.radius[p.i] + s.spheres.radius[p.j];
     if (s.box.separation(positions[p.i], positions[p.j]).squaredNorm() <= contact * contact)
       touching.push_back({p.i, p.j, 0.0});

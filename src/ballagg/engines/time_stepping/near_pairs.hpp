@@ -50,6 +50,14 @@ class NearPairs {
                                    const std::function<const SortedCellList<D>&()>& cells,
                                    const std::function<void(const std::vector<std::int32_t>&)>& need);
 
+  // Whether sphere i is in a pair of the list as the last contacts() left it. Until a
+  // cluster has moved more than skin / 2 since its pairs were listed (travel() plus what
+  // the step's minimisations have moved it since contacts()), a sphere that is in no pair
+  // is farther than its contact distance from every sphere of another cluster.
+  bool listed(int i) const { return listed_at_[i] == listing_; }
+  double travel(int c) const { return travel_[c]; }
+  double skin() const { return skin_; }
+
   // Detections that scanned the whole box (the first, and those where the stale clusters
   // held more than kFullScanFraction of the spheres), and those that refreshed a part.
   std::int64_t full_scans() const { return full_scans_; }
@@ -69,6 +77,8 @@ class NearPairs {
   std::vector<double> step_shift_;    // per cluster id: largest shift of a sphere this step
   std::vector<std::int32_t> shifted_; // clusters with a non-zero step_shift_
   std::vector<Pair> pairs_;           // sorted by (i, j)
+  std::vector<std::int32_t> listed_at_;  // per sphere: the last contacts() that found it in a pair
+  std::int32_t listing_ = 0;             // contacts() calls so far
   std::int64_t full_scans_ = 0, partial_scans_ = 0;
 };
 

@@ -101,7 +101,7 @@ class TimeSteppingEngine final : public Engine<D> {
   GroupSolution<D> repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
   bool beyond_minimisation(const State<D>& s, const CollisionGroup& group) const;
   std::uint64_t round_signature() const;
-  void apply(const GroupSolution<D>& solution, std::vector<int>& moved);
+  void apply(const State<D>& s, const GroupSolution<D>& solution, std::vector<int>& moved);
   std::vector<SpherePair> new_overlaps(const State<D>& s, std::vector<int>& moved);
   bool end_round(const State<D>& s, const std::vector<CollisionGroup>& groups,
                  const std::vector<GroupSolution<D>>& solutions, const std::vector<SpherePair>& overlaps);
@@ -151,6 +151,9 @@ class TimeSteppingEngine final : public Engine<D> {
   std::int32_t pass_ = 0;                    // the next contact pass of the step
   std::size_t forget_at_ = kSightingsKept;   // records beyond which the outdated are dropped
   std::vector<std::vector<Sighting>> sightings_;
+  // Set: no cluster has moved more than the near-pair list allows since it was listed, so
+  // a sphere in no listed pair touches no other cluster (NearPairs::listed).
+  bool near_list_complete_ = false;
   double length_scale_ = 1.0, delta_w_ = 0.0, mean_mass_ = 1.0;
   std::optional<TimeStepRule> rule_;         // from the state at the start of the run
   bool resumed_ = false;                     // resume_from prepared the next run()
@@ -350,6 +353,7 @@ void TimeSteppingEngine<D>::detect_overlaps(const State<D>& s) {
   const auto need = [this](const std::vector<std::int32_t>& spheres) { materialise_positions(spheres); };
   for (const SpherePair& p : near_.contacts(s, positions_, cells, need))
     S_.add(p.i, p.j, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
+  near_list_complete_ = true;  // every cluster is within skin / 2 of its listing now
 }
 
 // Steps 2b-2e, the loop (3.1)-(3.2). Each round minimises every group of S (the bodies
@@ -390,7 +394,7 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
     }
     moved.clear();
     for (std::size_t k = 0; k < groups.size(); ++k)
-      if (solutions[k].result.converged) apply(solutions[k], moved);
+      if (solutions[k].result.converged) apply(s, solutions[k], moved);
     // The groups the minimisation did not solve are repaired one after the other, each
     // seeing where everything else has gone.
     for (std::size_t k = 0; k < groups.size(); ++k) {
@@ -398,7 +402,7 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
       const int iterations = solutions[k].result.iterations;
       solutions[k] = repair(context(s), groups[k]);
       solutions[k].result.iterations += iterations;
-      apply(solutions[k], moved);
+      apply(s, solutions[k], moved);
     }
     moved_in_step_.insert(moved_in_step_.end(), moved.begin(), moved.end());
     if (out_of_rounds) {
@@ -471,7 +475,7 @@ std::uint64_t TimeSteppingEngine<D>::round_signature() const {
 
 // Moves the spheres of a solution in positions_ (the state is moved at commit).
 template <int D>
-void TimeSteppingEngine<D>::apply(const GroupSolution<D>& g, std::vector<int>& moved) {
+void TimeSteppingEngine<D>::apply(const State<D>& s, const GroupSolution<D>& g, std::vector<int>& moved) {
   ++counters_.minimisations;
   counters_.daha_iterations += g.result.iterations;
   counters_.max_link_stretch = std::max(counters_.max_link_stretch, g.link_stretch);
@@ -483,6 +487,7 @@ void TimeSteppingEngine<D>::apply(const GroupSolution<D>& g, std::vector<int>& m
     positions_[i] = box.wrap(positions_[i] + g.shift[k]);
     step_shift_[i] += g.shift[k];
     last_pass_[i] = pass_;
+    if (near_.travel(s.spheres.cluster[i]) + step_shift_[i].norm() > 0.5 * near_.skin()) near_list_complete_ = false;
     moved_since_binning_[i] += g.shift[k];
     if (moved_since_binning_[i].norm() > cell_slack_) {
       cells_->move(i, positions_[i]);
@@ -576,7 +581,7 @@ void TimeSteppingEngine<D>::settle(const State<D>& s, const std::vector<SpherePa
     sort_unique(group_clusters);
     const GroupSolution<D> solution = place_at_contact(context(s), CollisionGroup{group_clusters, {}});
     std::vector<int> moved(solution.spheres.begin(), solution.spheres.end());
-    apply(solution, settled);
+    apply(s, solution, settled);
     contacts = solution.contacts;
     // Only what moved now can overlap anything new: nothing outside the group moves here.
     retreating = clusters_overlapping_outside(s, moved, group_clusters);
@@ -618,10 +623,15 @@ template <int D>
 template <class F>
 void TimeSteppingEngine<D>::for_each_contact(const State<D>& s, const std::vector<int>& spheres, F&& f) const {
   const bool same_cluster_fixed = rigid();
+  // In the rigid model only other clusters count, and a sphere in no listed near pair has
+  // none within reach: late in a run a fragment that hits the giant moves it by a tiny
+  // shift, and each of the giant's spheres is then a lookup instead of a cell query.
+  const bool listed_only = same_cluster_fixed && near_list_complete_;
   const std::int64_t n = static_cast<std::int64_t>(spheres.size());
 #pragma omp parallel for schedule(dynamic, 256) if (n >= kParallelLoopMin)
   for (std::int64_t k = 0; k < n; ++k) {
     const int i = spheres[k];
+    if (listed_only && !near_.listed(i)) continue;
     const int ci = s.spheres.cluster[i];
     auto visit = [&](int j) {
       if (j == i || (same_cluster_fixed && s.spheres.cluster[j] == ci)) return;
