@@ -2,6 +2,7 @@
 // laws, the stopping conditions of the minimiser after every step, the three cluster
 // models, determinism and independence of the thread count.
 #include <cmath>
+#include <functional>
 
 #include <gtest/gtest.h>
 
@@ -123,13 +124,15 @@ bool clusters_hold_together(const State<D>& s, double limit) {
 }
 
 template <int D>
-void expect_invariants_every_step(TsModel model, Boundary boundary, int n, double vf, std::uint64_t seed) {
+void expect_invariants_every_step(TsModel model, Boundary boundary, int n, double vf, std::uint64_t seed,
+                                  const std::function<void(TimeSteppingSettings&)>& adjust = {}) {
   Config c = testing::small_config(D, n, vf, boundary, seed);
   State<D> s = make_initial_state<D>(c);
   const Vec<D> p0 = s.momentum();
   const double scale = s.momentum_scale();
   const double m0 = s.total_mass();
   TimeSteppingSettings ts = settings(model);
+  if (adjust) adjust(ts);
   Recorder<D> rec;
   int clusters = s.n_clusters();
   double worst = -1.0;
@@ -173,6 +176,78 @@ TEST_P(TimeStepping, Invariants3DWalls) {
 }
 TEST_P(TimeStepping, Invariants3DPeriodic) {
   expect_invariants_every_step<3>(GetParam(), Boundary::periodic, size_for(GetParam(), 200), 0.2, 6);
+}
+
+// The fall-back that keeps the flight, given every group (retreat_pairs = 1: nothing is
+// minimised in the rigid model) and long steps (flights of several diameters): the same
+// invariants, no overlap left after any step.
+void keep_flight_at_long_steps(TimeSteppingSettings& ts) {
+  ts.fall_back = TsFallBack::keep_flight;
+  ts.retreat_pairs = 1;
+  ts.dt_factor = 0.05;
+}
+TEST(TimeSteppingKeepFlight, Invariants2DWalls) {
+  expect_invariants_every_step<2>(TsModel::rigid, Boundary::walls, 400, 0.3, 3, keep_flight_at_long_steps);
+}
+TEST(TimeSteppingKeepFlight, Invariants2DPeriodic) {
+  expect_invariants_every_step<2>(TsModel::rigid, Boundary::periodic, 400, 0.3, 4, keep_flight_at_long_steps);
+}
+TEST(TimeSteppingKeepFlight, Invariants3DWalls) {
+  expect_invariants_every_step<3>(TsModel::rigid, Boundary::walls, 400, 0.2, 5, keep_flight_at_long_steps);
+}
+TEST(TimeSteppingKeepFlight, Invariants3DPeriodic) {
+  expect_invariants_every_step<3>(TsModel::rigid, Boundary::periodic, 400, 0.2, 6, keep_flight_at_long_steps);
+}
+TEST(TimeSteppingKeepFlight, AlmostRigidInvariants2DWalls) {
+  expect_invariants_every_step<2>(TsModel::almost_rigid, Boundary::walls, 100, 0.2, 3, [](TimeSteppingSettings& ts) {
+    ts.fall_back = TsFallBack::keep_flight;
+    ts.daha.max_iterations = 20;  // most groups to the fall-back
+  });
+}
+
+// Disc A (radius 0.5, speed +1) hits disc B at rest at t = 0.5 within a step; with the
+// retreat the pair stops there, with keep-flight it flies on at speed 1/2 (rule (2.9)), and
+// when it reaches disc C at rest before the step ends, it stops there and all three join.
+struct ThreeDiscsOnALine {
+  double x_a, x_b, x_c;
+  int clusters;
+  double v_a;
+};
+ThreeDiscsOnALine three_discs_on_a_line(double c_at, double dt, TsFallBack fall_back) {
+  State<2> s = make_state<2>(10, Boundary::walls,
+                             {{vec<2>(4, 5), vec<2>(1, 0)}, {vec<2>(5.5, 5), vec<2>(0, 0)}, {vec<2>(c_at, 5), vec<2>(0, 0)}});
+  TimeSteppingSettings ts = settings(TsModel::rigid, dt / 10);  // L = 10, max |V| = 1
+  ts.dt_growth = 1.0;
+  ts.retreat_pairs = 1;
+  ts.fall_back = fall_back;
+  run_ts(s, ts, until(dt));
+  return {s.position(0, s.time)[0], s.position(1, s.time)[0], s.position(2, s.time)[0], s.n_clusters(),
+          s.velocity(0)[0]};
+}
+
+TEST(TimeSteppingKeepFlight, AMergedPairFliesOnToTheEndOfTheStep) {
+  const double tolerance = 0.5 * TimeSteppingSettings{}.daha.eps_c;  // the retreat's stop
+  // One step of 1.2: A ends it inside B, C (at 7.4) is out of reach.
+  const ThreeDiscsOnALine kept = three_discs_on_a_line(7.4, 1.2, TsFallBack::keep_flight);
+  EXPECT_EQ(kept.clusters, 2);
+  EXPECT_NEAR(kept.x_a, 4.5 + 0.7 * 0.5, tolerance);
+  EXPECT_NEAR(kept.x_b, 5.5 + 0.7 * 0.5, tolerance);
+  EXPECT_NEAR(kept.v_a, 0.5, 1e-12);
+  EXPECT_EQ(kept.x_c, 7.4);
+  const ThreeDiscsOnALine retreated = three_discs_on_a_line(7.4, 1.2, TsFallBack::retreat);
+  EXPECT_NEAR(retreated.x_a, 4.5, tolerance);
+  EXPECT_NEAR(retreated.x_b, 5.5, tolerance);
+}
+
+TEST(TimeSteppingKeepFlight, AFlyingPairStopsAtASphereOutsideItsGroup) {
+  const double tolerance = 0.5 * TimeSteppingSettings{}.daha.eps_c;
+  // One step of 2: A ends it inside B but not C (at 7.2); the pair reaches C at t = 1.9.
+  const ThreeDiscsOnALine kept = three_discs_on_a_line(7.2, 2.0, TsFallBack::keep_flight);
+  EXPECT_EQ(kept.clusters, 1);
+  EXPECT_NEAR(kept.x_a, 5.2, tolerance);
+  EXPECT_NEAR(kept.x_b, 6.2, tolerance);
+  EXPECT_EQ(kept.x_c, 7.2);
+  EXPECT_NEAR(kept.v_a, 1.0 / 3.0, 1e-12);
 }
 
 // The paper's set-up of Table 1 (lattice start, speed 1 in random directions, R = 0.2,

@@ -213,6 +213,7 @@ TimeSteppingSettings read_ts_section(const toml::table& root, const std::string&
   auto in_open_unit = [](double v) { return v > 0.0 && v < 1.0; };
   if (auto v = ts.choice("model", {"rigid", "almost-rigid", "non-rigid"})) t.model = static_cast<TsModel>(*v);
   if (auto v = ts.choice("dt_rule", {"growth", "adaptive"})) t.dt_rule = static_cast<TsDtRule>(*v);
+  if (auto v = ts.choice("fall_back", {"retreat", "keep-flight"})) t.fall_back = static_cast<TsFallBack>(*v);
   if (auto v = ts.real("dt_factor", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]"))
     t.dt_factor = *v;
   if (auto v = ts.real("dt_growth", [](double v) { return v >= 1.0 && v <= 1e3; }, "must be a number in [1, 1000]"))
@@ -519,6 +520,7 @@ std::string_view to_string(TsModel m) {
   return names[static_cast<int>(m)];
 }
 std::string_view to_string(TsDtRule r) { return r == TsDtRule::growth ? "growth" : "adaptive"; }
+std::string_view to_string(TsFallBack f) { return f == TsFallBack::retreat ? "retreat" : "keep-flight"; }
 std::string_view to_string(CollisionOutcome o) {
   static constexpr std::string_view names[] = {"stick", "bounce", "energy-threshold"};
   return names[static_cast<int>(o)];
@@ -576,6 +578,7 @@ std::vector<Section> entries(const Config& c) {
   Section ts{"ts",
              {{"model", str(to_string(t.model))},
               {"dt_rule", str(to_string(t.dt_rule))},
+              {"fall_back", str(to_string(t.fall_back))},
               {"dt_factor", t.dt_factor},
               {"dt_growth", t.dt_growth}}};
   if (t.delta_w) ts.second.push_back({"delta_w", *t.delta_w});

@@ -41,49 +41,8 @@ double first_free(std::vector<std::pair<double, double>>& bad) {
 // it at the end, and the margin of one more eps_c leaves the round-off no say.
 constexpr double kCandidateReach = 2.0;
 
-// The spheres of a cluster of the group up to this size are listed directly as partners
-// of a retreating sphere (cheaper than a search in the cell list).
-constexpr int kListedClusterSize = 64;
-
-// The distance from the origin to the segment from p to p + d.
 template <int D>
-double distance_to_segment(const Vec<D>& p, const Vec<D>& d) {
-  return std::sqrt(squared_distance_to_segment<D>(Vec<D>::Zero(), p, d));
-}
-
-// Where a cluster of the group starts its retreat: the bounding sphere of its spheres'
-// centres (free flight's end, this step's minimisations undone).
-template <int D>
-struct RetreatStart {
-  Vec<D> centre;
-  double radius;
-  double longest_shift;  // of its spheres by this step's minimisations
-};
-
-template <int D>
-std::vector<RetreatStart<D>> retreat_starts(const ProblemContext<D>& ctx,
-                                            const std::vector<std::pair<std::int32_t, std::int32_t>>& clusters) {
-  const State<D>& s = ctx.state;
-  std::vector<RetreatStart<D>> out;
-  for (const auto& [c, b] : clusters) {
-    const auto& members = s.clusters[c].members;
-    auto start = [&](int i) { return Vec<D>(ctx.positions[i] - ctx.step_shift[i]); };
-    const Vec<D> first = start(members.front());
-    Vec<D> sum = Vec<D>::Zero();  // of the separations from the first sphere (periodic images)
-    for (int i : members) sum += s.box.separation(start(i), first);
-    const Vec<D> centre = first + sum / static_cast<double>(members.size());
-    double radius = 0.0, longest_shift = 0.0;
-    for (int i : members) {
-      radius = std::max(radius, s.box.separation(start(i), centre).norm());
-      longest_shift = std::max(longest_shift, ctx.step_shift[i].norm());
-    }
-    out.push_back({centre, radius, longest_shift});
-  }
-  return out;
-}
-
-template <int D>
-GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionGroup& g) {
+Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g) {
   const State<D>& s = ctx.state;
   const auto clusters = clusters_of_group(ctx, g);
   const double tolerance = retreat_tolerance(ctx.settings.daha);
@@ -192,10 +151,13 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
     candidates.insert(candidates.end(), f.candidates.begin(), f.candidates.end());
     bad.insert(bad.end(), f.bad.begin(), f.bad.end());
   }
-  const double theta = std::min(1.0, first_free(bad));
+  const double free_theta = first_free(bad);
+  const double theta = std::min(1.0, free_theta);
 
-
-  GroupSolution<D> out;
+  Retreat<D> retreat{theta, free_theta <= 1.0, {}, {}};
+  GroupSolution<D>& out = retreat.solution;
+  for (const Candidate& k : candidates) retreat.candidates.push_back(k.pair);
+  std::sort(retreat.candidates.begin(), retreat.candidates.end(), pair_less<SpherePair>);
   out.placed_at_contact = true;
   out.dissolves_bodies = true;
   out.result.converged = true;
@@ -211,10 +173,10 @@ GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionG
       out.spheres.push_back(i);
       out.shift.push_back(shift);
     }
-  return out;
+  return retreat;
 }
 
-template GroupSolution<2> place_at_contact<2>(const ProblemContext<2>&, const CollisionGroup&);
-template GroupSolution<3> place_at_contact<3>(const ProblemContext<3>&, const CollisionGroup&);
+template Retreat<2> retreat_group<2>(const ProblemContext<2>&, const CollisionGroup&);
+template Retreat<3> retreat_group<3>(const ProblemContext<3>&, const CollisionGroup&);
 
 }  // namespace ballagg

@@ -29,10 +29,66 @@ inline double retreat_tolerance(const DahaParameters& p) { return 0.5 * p.eps_c;
 //
 // Spheres of the group's largest cluster, when it is not small, are not checked against
 // spheres outside the group (see for_each_neighbour_of_group).
-template <int D>
-GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionGroup& group);
+// The spheres of a cluster of the group up to this size are listed directly as partners
+// of a retreating sphere (cheaper than a search in the cell list).
+inline constexpr int kListedClusterSize = 64;
 
-extern template GroupSolution<2> place_at_contact<2>(const ProblemContext<2>&, const CollisionGroup&);
-extern template GroupSolution<3> place_at_contact<3>(const ProblemContext<3>&, const CollisionGroup&);
+// The distance from the origin to the segment from p to p + d.
+template <int D>
+inline double distance_to_segment(const Vec<D>& p, const Vec<D>& d) {
+  return std::sqrt(squared_distance_to_segment<D>(Vec<D>::Zero(), p, d));
+}
+
+// Where a cluster of the group starts its retreat: the bounding sphere of its spheres'
+// centres (free flight's end, this step's minimisations undone).
+template <int D>
+struct RetreatStart {
+  Vec<D> centre;
+  double radius;
+  double longest_shift;  // of its spheres by this step's minimisations
+};
+
+template <int D>
+std::vector<RetreatStart<D>> retreat_starts(const ProblemContext<D>& ctx,
+                                            const std::vector<std::pair<std::int32_t, std::int32_t>>& clusters) {
+  const State<D>& s = ctx.state;
+  std::vector<RetreatStart<D>> out;
+  for (const auto& [c, b] : clusters) {
+    const auto& members = s.clusters[c].members;
+    auto start = [&](int i) { return Vec<D>(ctx.positions[i] - ctx.step_shift[i]); };
+    const Vec<D> first = start(members.front());
+    Vec<D> sum = Vec<D>::Zero();  // of the separations from the first sphere (periodic images)
+    for (int i : members) sum += s.box.separation(start(i), first);
+    const Vec<D> centre = first + sum / static_cast<double>(members.size());
+    double radius = 0.0, longest_shift = 0.0;
+    for (int i : members) {
+      radius = std::max(radius, s.box.separation(start(i), centre).norm());
+      longest_shift = std::max(longest_shift, ctx.step_shift[i].norm());
+    }
+    out.push_back({centre, radius, longest_shift});
+  }
+  return out;
+}
+
+template <int D>
+struct Retreat {
+  double theta;                // the fraction of the flight undone
+  bool free;                   // at theta nothing overlaps (false: theta = 1, spheres from outside in the way)
+  GroupSolution<D> solution;   // the group moved back by theta, its pairs left touching as contacts
+  // Every pair that can come within a contact distance along the flights (with a sphere
+  // outside the group: where it is now), sorted. What the flight sweep starts from.
+  std::vector<SpherePair> candidates;
+};
+
+template <int D>
+Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& group);
+
+template <int D>
+GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionGroup& group) {
+  return retreat_group(ctx, group).solution;
+}
+
+extern template Retreat<2> retreat_group<2>(const ProblemContext<2>&, const CollisionGroup&);
+extern template Retreat<3> retreat_group<3>(const ProblemContext<3>&, const CollisionGroup&);
 
 }  // namespace ballagg

@@ -11,6 +11,7 @@
 #include "ballagg/core/parallel.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
 #include "ballagg/engines/time_stepping/adhesive_set.hpp"
+#include "ballagg/engines/time_stepping/flight_sweep.hpp"
 #include "ballagg/engines/time_stepping/minimisation_problem.hpp"
 #include "ballagg/engines/time_stepping/near_pairs.hpp"
 #include "ballagg/engines/time_stepping/retreat.hpp"
@@ -427,10 +428,12 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
 }
 
 // The fall-back for a group the minimisation did not solve: every cluster of its bodies
-// moved back along its own flight (see retreat.hpp). The bodies are dissolved first: the
-// retreat undoes what joined them.
+// moved back along its own flight (see retreat.hpp) and, with keep-flight, on again to the
+// end of the step, merging at each contact (flight_sweep.hpp). The bodies are dissolved
+// first: the retreat undoes what joined them.
 template <int D>
 GroupSolution<D> TimeSteppingEngine<D>::repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const {
+  if (settings_.fall_back == TsFallBack::keep_flight) return keep_flight(ctx, group);
   return place_at_contact(ctx, group);
 }
 

@@ -1,0 +1,329 @@
+#include "ballagg/engines/time_stepping/flight_sweep.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <queue>
+#include <utility>
+#include <vector>
+
+namespace ballagg {
+namespace {
+
+constexpr double kNoContact = std::numeric_limits<double>::infinity();
+
+// The first t >= 0 at which |B + t V| = sigma while the pair closes in (kNoContact: never).
+// A pair already within sigma and closing in touches at once; one moving apart never.
+template <int D>
+double first_contact(const Vec<D>& B, const Vec<D>& V, double sigma) {
+  const double b = B.dot(V);
+  if (b >= 0.0) return kNoContact;  // not closing in: the distance only grows from here
+  const double c = B.squaredNorm() - sigma * sigma;
+  if (c <= 0.0) return 0.0;
+  const double a = V.squaredNorm(), disc = b * b - a * c;
+  if (disc < 0.0) return kNoContact;
+  return c / (-b + std::sqrt(disc));  // the smaller root of a t^2 + 2 b t + c, without cancellation
+}
+
+// The sweep of one group, tau in [0, 1] the fraction of the step from its start. Cluster k
+// of the group (clusters_[k]) has its spheres at e_i + a_k + tau v_k, where e_i is the end
+// of sphere i's free flight (its position with this step's minimisations undone): a_k =
+// -flight, v_k = flight until its body changes.
+template <int D>
+class FlightSweep {
+ public:
+  FlightSweep(const ProblemContext<D>& ctx, const CollisionGroup& g)
+      : ctx_(ctx),
+        s_(ctx.state),
+        queried_(ctx, g, std::numeric_limits<int>::max()),
+        clusters_(queried_.clusters),
+        starts_(retreat_starts(ctx, clusters_)),
+        contact_reach_(2.0 * s_.max_radius() * (1.0 + ctx.settings.daha.eps_c)) {
+    const std::size_t n = clusters_.size();
+    for (std::size_t k = 0; k < n; ++k) index_.push_back({clusters_[k].first, static_cast<std::int32_t>(k)});
+    std::sort(index_.begin(), index_.end());
+    a_.resize(n);
+    v_.resize(n);
+    epoch_.assign(n, 0);
+    root_.resize(n);
+    members_.resize(n);
+    frozen_.assign(n, 0);
+    for (std::size_t k = 0; k < n; ++k) {
+      v_[k] = ctx.flight[clusters_[k].first];
+      a_[k] = -v_[k];
+      root_[k] = static_cast<int>(k);
+      members_[k] = {static_cast<int>(k)};
+    }
+  }
+
+  GroupSolution<D> run(Retreat<D> retreat);
+
+ private:
+  struct Event {
+    double tau;
+    int i, j;   // the spheres (i = -1: k's body reaches a wall)
+    int k, m;   // their clusters in the group (m = -1: j is outside it)
+    int ek, em; // the epochs of k and m when the event was found
+    bool operator>(const Event& o) const {
+      if (tau != o.tau) return tau > o.tau;
+      if (i != o.i) return i > o.i;
+      if (j != o.j) return j > o.j;
+      if (k != o.k) return k > o.k;
+      return m > o.m;
+    }
+  };
+
+  int local(int cluster) const {
+    const auto it = std::lower_bound(index_.begin(), index_.end(), std::pair<std::int32_t, std::int32_t>{cluster, -1});
+    return it != index_.end() && it->first == cluster ? it->second : -1;
+  }
+  int root(int k) const {
+    while (root_[k] != k) k = root_[k];
+    return k;
+  }
+  Vec<D> end_of_flight(int i) const { return ctx_.positions[i] - ctx_.step_shift[i]; }
+  Vec<D> displacement(int k, double tau) const { return a_[k] + tau * v_[k]; }
+  const std::vector<int>& spheres(int k) const { return s_.clusters[clusters_[k].first].members; }
+
+  void try_pair(int i, int j, int k, int m, double tau);
+  bool can_meet(int k, int m, double tau) const;
+  void search_clusters(int k, int m, double tau);
+  void search_outside(int k, double tau);
+  void search_walls(int body, double tau);
+  void search(int body, double tau);
+  void set_velocity(int body, const Vec<D>& v, double tau);
+  int merge(int k, int m, double tau);
+  void stop(int k, double tau);
+  bool valid(const Event& e) const;
+
+  const ProblemContext<D>& ctx_;
+  const State<D>& s_;
+  const QueriedClusters<D> queried_;
+  const std::vector<std::pair<std::int32_t, std::int32_t>>& clusters_;  // (cluster, body) of the group
+  const std::vector<RetreatStart<D>> starts_;                          // bounding spheres at e
+  const double contact_reach_;
+  std::vector<std::pair<std::int32_t, std::int32_t>> index_;           // (cluster, k), sorted
+  std::vector<Vec<D>> a_, v_;
+  std::vector<int> epoch_;              // per cluster: bumped when its motion changes
+  std::vector<int> root_;               // union-find of the bodies of the sweep
+  std::vector<std::vector<int>> members_;  // per root: its clusters
+  std::vector<char> frozen_;            // per root: stopped against a sphere outside or a wall
+  std::priority_queue<Event, std::vector<Event>, std::greater<Event>> events_;
+  std::vector<SpherePair> contacts_;
+};
+
+// Sphere i of cluster k and sphere j of cluster m (m = -1: outside the group, where it is
+// now), looked at from tau on.
+template <int D>
+void FlightSweep<D>::try_pair(int i, int j, int k, int m, double tau) {
+  const Vec<D> pi = end_of_flight(i) + displacement(k, tau);
+  const Vec<D> pj = m >= 0 ? Vec<D>(end_of_flight(j) + displacement(m, tau)) : ctx_.positions[j];
+  const Vec<D> relative_velocity = m >= 0 ? Vec<D>(v_[k] - v_[m]) : v_[k];
+  const double t = first_contact<D>(s_.box.separation(pi, pj), relative_velocity,
+                                    s_.spheres.radius[i] + s_.spheres.radius[j]);
+  if (tau + t > 1.0) return;
+  events_.push({tau + t, std::min(i, j), std::max(i, j), k, m, epoch_[k], m >= 0 ? epoch_[m] : 0});
+}
+
+// Whether the bounding spheres of clusters k and m come within a contact distance after tau.
+template <int D>
+bool FlightSweep<D>::can_meet(int k, int m, double tau) const {
+  const Vec<D> between = s_.box.separation(Vec<D>(starts_[k].centre + displacement(k, tau)),
+                                           Vec<D>(starts_[m].centre + displacement(m, tau)));
+  const Vec<D> relative = (1.0 - tau) * (v_[k] - v_[m]);
+  return distance_to_segment<D>(between, relative) <= starts_[k].radius + starts_[m].radius + contact_reach_;
+}
+
+// The pairs of clusters k and m of the group that can touch after tau, searched from the
+// side of a queried cluster (not the group's giant: its pairs are found from the others').
+template <int D>
+void FlightSweep<D>::search_clusters(int k, int m, double tau) {
+  if (!can_meet(k, m, tau)) return;
+  if (!queried_(clusters_[k].first)) std::swap(k, m);
+  const int other = clusters_[m].first;
+  const Vec<D> relative = (1.0 - tau) * (v_[k] - v_[m]);
+  const Vec<D> frame = displacement(k, tau) - displacement(m, tau);  // k's motion seen from m's spheres at e
+  for (int i : spheres(k)) {
+    const Vec<D> p = end_of_flight(i) + frame;
+    if (distance_to_segment<D>(s_.box.separation(p, starts_[m].centre), relative) > starts_[m].radius + contact_reach_)
+      continue;
+    if (s_.clusters[other].size() <= kListedClusterSize) {
+      for (int j : s_.clusters[other].members) try_pair(i, j, k, m, tau);
+      continue;
+    }
+    // The cell list holds m's spheres where the step's minimisations put them, up to its
+    // longest shift from e.
+    ctx_.cells.for_each_near_segment(s_.box.wrap(p), relative,
+                                     contact_reach_ + starts_[m].longest_shift + ctx_.cell_slack, [&](int j) {
+                                       if (s_.spheres.cluster[j] == other) try_pair(i, j, k, m, tau);
+                                     });
+  }
+}
+
+// The spheres outside the group that cluster k can touch after tau (not for the group's
+// giant, as in the retreat: what it meets is found by the next round).
+template <int D>
+void FlightSweep<D>::search_outside(int k, double tau) {
+  if (!queried_(clusters_[k].first) || v_[k] == Vec<D>::Zero()) return;
+  const Vec<D> path = (1.0 - tau) * v_[k];
+  for (int i : spheres(k)) {
+    const Vec<D> p = s_.box.wrap(Vec<D>(end_of_flight(i) + displacement(k, tau)));
+    ctx_.cells.for_each_near_segment(p, path, contact_reach_ + ctx_.cell_slack, [&](int j) {
+      if (local(s_.spheres.cluster[j]) < 0) try_pair(i, j, k, -1, tau);
+    });
+  }
+}
+
+// When a body whose flight changed reaches a wall. (A cluster on its own flight stays
+// inside: it moves on the segment between two places inside the box.)
+template <int D>
+void FlightSweep<D>::search_walls(int body, double tau) {
+  if (s_.box.periodic() || frozen_[body]) return;
+  const Vec<D>& v = v_[body];
+  double first = kNoContact;
+  int first_k = body;
+  for (int k : members_[body])
+    for (int i : spheres(k)) {
+      const Vec<D> p = end_of_flight(i) + displacement(k, tau);
+      const double r = s_.spheres.radius[i];
+      for (int axis = 0; axis < D; ++axis) {
+        double t = kNoContact;
+        if (v[axis] < 0.0) t = std::max(0.0, (p[axis] - r) / -v[axis]);
+        if (v[axis] > 0.0) t = std::max(0.0, (s_.box.length - r - p[axis]) / v[axis]);
+        if (t < first) { first = t; first_k = k; }
+      }
+    }
+  if (tau + first <= 1.0) events_.push({tau + first, -1, -1, first_k, -1, epoch_[first_k], 0});
+}
+
+// Every event of a body whose motion changed at tau.
+template <int D>
+void FlightSweep<D>::search(int body, double tau) {
+  for (int k : members_[body]) {
+    for (int m = 0; m < static_cast<int>(clusters_.size()); ++m)
+      if (root(m) != body) search_clusters(k, m, tau);
+    search_outside(k, tau);
+  }
+  search_walls(body, tau);
+}
+
+template <int D>
+void FlightSweep<D>::set_velocity(int body, const Vec<D>& v, double tau) {
+  for (int k : members_[body]) {
+    a_[k] += tau * (v_[k] - v);  // the same place at tau
+    v_[k] = v;
+    ++epoch_[k];
+  }
+}
+
+// Joins the bodies of clusters k and m at tau with the mass-weighted flight of rule (2.9)
+// (none, when either has stopped). Returns the new body.
+template <int D>
+int FlightSweep<D>::merge(int k, int m, double tau) {
+  int big = root(k), small = root(m);
+  // Whichever side the contact was found from, the same body keeps the same order of
+  // members (the order of the sum below).
+  if (members_[big].size() < members_[small].size() || (members_[big].size() == members_[small].size() && small < big))
+    std::swap(big, small);
+  root_[small] = big;
+  members_[big].insert(members_[big].end(), members_[small].begin(), members_[small].end());
+  members_[small].clear();
+  frozen_[big] = frozen_[big] || frozen_[small];
+  Vec<D> momentum = Vec<D>::Zero();
+  double mass = 0.0;
+  for (int c : members_[big]) {
+    const double mc = s_.clusters[clusters_[c].first].mass;
+    momentum += mc * v_[c];
+    mass += mc;
+  }
+  set_velocity(big, frozen_[big] ? Vec<D>(Vec<D>::Zero()) : Vec<D>(momentum / mass), tau);
+  return big;
+}
+
+// k's body stops at tau (it touched a sphere outside the group, or a wall).
+template <int D>
+void FlightSweep<D>::stop(int k, double tau) {
+  const int body = root(k);
+  frozen_[body] = 1;
+  set_velocity(body, Vec<D>::Zero(), tau);
+}
+
+template <int D>
+bool FlightSweep<D>::valid(const Event& e) const {
+  if (epoch_[e.k] != e.ek) return false;
+  return e.m < 0 || (epoch_[e.m] == e.em && root(e.k) != root(e.m));
+}
+
+template <int D>
+GroupSolution<D> FlightSweep<D>::run(Retreat<D> retreat) {
+  if (!retreat.free || retreat.theta <= 0.0) return std::move(retreat.solution);
+  // The retreat's instant: the group overlaps nothing, and its touching pairs join.
+  const double start = 1.0 - retreat.theta;
+  contacts_ = retreat.solution.contacts;
+  std::vector<char> changed(clusters_.size(), 0);
+  for (const SpherePair& p : contacts_) {
+    const int k = local(s_.spheres.cluster[p.i]), m = local(s_.spheres.cluster[p.j]);
+    if (k >= 0 && m >= 0) {
+      if (root(k) != root(m)) changed[merge(k, m, start)] = 1;
+    } else {
+      stop(k >= 0 ? k : m, start);
+      changed[root(k >= 0 ? k : m)] = 1;
+    }
+  }
+  // The pairs of clusters still on their own flights are among the retreat's candidates
+  // (found along those flights); the bodies that changed at the start are searched again.
+  for (const SpherePair& p : retreat.candidates) {
+    int i = p.i, j = p.j, k = local(s_.spheres.cluster[i]), m = local(s_.spheres.cluster[j]);
+    if (k < 0) {
+      std::swap(i, j);
+      std::swap(k, m);
+    }
+    if (!changed[root(k)] && (m < 0 || !changed[root(m)])) try_pair(i, j, k, m, start);
+  }
+  for (int k = 0; k < static_cast<int>(clusters_.size()); ++k)
+    if (root(k) == k && changed[k]) search(k, start);
+  while (!events_.empty()) {
+    const Event e = events_.top();
+    events_.pop();
+    if (!valid(e)) continue;
+    if (e.i >= 0) contacts_.push_back({e.i, e.j, 0.0});
+    if (e.m < 0) {
+      stop(e.k, e.tau);  // at a sphere outside the group, or at a wall
+      search(root(e.k), e.tau);
+    } else {
+      search(merge(e.k, e.m, e.tau), e.tau);
+    }
+  }
+
+  GroupSolution<D> out;
+  out.placed_at_contact = true;
+  out.dissolves_bodies = true;
+  out.result = retreat.solution.result;
+  out.n_variables = static_cast<int>(clusters_.size());
+  std::sort(contacts_.begin(), contacts_.end(), pair_less<SpherePair>);
+  contacts_.erase(std::unique(contacts_.begin(), contacts_.end(),
+                              [](const SpherePair& x, const SpherePair& y) { return x.i == y.i && x.j == y.j; }),
+                  contacts_.end());
+  out.contacts = std::move(contacts_);
+  for (int k = 0; k < static_cast<int>(clusters_.size()); ++k)
+    for (int i : spheres(k)) {
+      const Vec<D> shift = displacement(k, 1.0) - ctx_.step_shift[i];
+      if (shift == Vec<D>::Zero()) continue;
+      out.spheres.push_back(i);
+      out.shift.push_back(shift);
+    }
+  return out;
+}
+
+}  // namespace
+
+template <int D>
+GroupSolution<D> keep_flight(const ProblemContext<D>& ctx, const CollisionGroup& group) {
+  FlightSweep<D> sweep(ctx, group);
+  return sweep.run(retreat_group(ctx, group));
+}
+
+template GroupSolution<2> keep_flight<2>(const ProblemContext<2>&, const CollisionGroup&);
+template GroupSolution<3> keep_flight<3>(const ProblemContext<3>&, const CollisionGroup&);
+
+}  // namespace ballagg
