@@ -5,8 +5,10 @@
 // succeed) and none of its clusters has moved yet in this step: the group is moved back in
 // time along this step's free flight to the latest instant at which it overlaps nothing —
 // neither itself nor the spheres around it, which stay where they are. This is the
-// event-driven answer for that group. (A group with clusters moved or formed in this step
-// is repaired by push_apart instead: where their flight started is no longer free.)
+// event-driven answer for that group. What the step's minimisations did to the group is
+// undone: its clusters go back along their flights from where free flight put them, and
+// the bodies of the group are dissolved. The fall-back that keeps the flight
+// (flight_sweep.hpp) goes on from the instant found here to the end of the step.
 //
 // Each pair's overlap along the retreat is a quadratic in the retreat fraction theta, so
 // the instants to avoid are a union of intervals, found exactly (no bisection).
