@@ -239,6 +239,19 @@ TEST(TimeSteppingKeepFlight, AMergedPairFliesOnToTheEndOfTheStep) {
   EXPECT_NEAR(retreated.x_b, 5.5, tolerance);
 }
 
+TEST(TimeSteppingKeepFlight, AGroupJoinsAtEachContactAsTheExactDynamicsDo) {
+  // C at 6.9 is in the group too (A ends the step inside both B and C). The exact answer:
+  // A meets B at t = 0.5 (A at 4.5), the pair (speed 1/2) meets C at t = 1.3, and the
+  // three fly on at 1/3 to t = 2; the retreat would leave all three at t = 0.5.
+  const double tolerance = 0.5 * TimeSteppingSettings{}.daha.eps_c;
+  const ThreeDiscsOnALine kept = three_discs_on_a_line(6.9, 2.0, TsFallBack::keep_flight);
+  EXPECT_EQ(kept.clusters, 1);
+  EXPECT_NEAR(kept.x_a, 4.5 + 0.8 * 0.5 + 0.7 / 3.0, tolerance);
+  EXPECT_NEAR(kept.x_b, 5.5 + 0.8 * 0.5 + 0.7 / 3.0, tolerance);
+  EXPECT_NEAR(kept.x_c, 6.9 + 0.7 / 3.0, tolerance);
+  EXPECT_NEAR(kept.v_a, 1.0 / 3.0, 1e-12);
+}
+
 TEST(TimeSteppingKeepFlight, AFlyingPairStopsAtASphereOutsideItsGroup) {
   const double tolerance = 0.5 * TimeSteppingSettings{}.daha.eps_c;
   // One step of 2: A ends it inside B but not C (at 7.2); the pair reaches C at t = 1.9.
