@@ -274,6 +274,8 @@ GroupSolution<D> FlightSweep<D>::run(Retreat<D> retreat) {
   }
   // The pairs of clusters still on their own flights are among the retreat's candidates
   // (found along those flights); the bodies that changed at the start are searched again.
+  // The order in which events are found does not matter: the queue orders them by (tau,
+  // spheres, clusters), and equal keys are the same event.
   for (const SpherePair& p : retreat.candidates) {
     int i = p.i, j = p.j, k = local(s_.spheres.cluster[i]), m = local(s_.spheres.cluster[j]);
     if (k < 0) {
@@ -322,7 +324,7 @@ GroupSolution<D> FlightSweep<D>::run(Retreat<D> retreat) {
 template <int D>
 GroupSolution<D> keep_flight(const ProblemContext<D>& ctx, const CollisionGroup& group) {
   FlightSweep<D> sweep(ctx, group);
-  return sweep.run(retreat_group(ctx, group));
+  return sweep.run(retreat_group(ctx, group, true));
 }
 
 template GroupSolution<2> keep_flight<2>(const ProblemContext<2>&, const CollisionGroup&);

@@ -42,7 +42,7 @@ double first_free(std::vector<std::pair<double, double>>& bad) {
 constexpr double kCandidateReach = 2.0;
 
 template <int D>
-Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g) {
+Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, bool with_candidates) {
   const State<D>& s = ctx.state;
   const auto clusters = clusters_of_group(ctx, g);
   const double tolerance = retreat_tolerance(ctx.settings.daha);
@@ -156,8 +156,8 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g) 
 
   Retreat<D> retreat{theta, free_theta <= 1.0, {}, {}};
   GroupSolution<D>& out = retreat.solution;
-  for (const Candidate& k : candidates) retreat.candidates.push_back(k.pair);
-  std::sort(retreat.candidates.begin(), retreat.candidates.end(), pair_less<SpherePair>);
+  if (with_candidates)
+    for (const Candidate& k : candidates) retreat.candidates.push_back(k.pair);
   out.placed_at_contact = true;
   out.dissolves_bodies = true;
   out.result.converged = true;
@@ -176,7 +176,7 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g) 
   return retreat;
 }
 
-template Retreat<2> retreat_group<2>(const ProblemContext<2>&, const CollisionGroup&);
-template Retreat<3> retreat_group<3>(const ProblemContext<3>&, const CollisionGroup&);
+template Retreat<2> retreat_group<2>(const ProblemContext<2>&, const CollisionGroup&, bool);
+template Retreat<3> retreat_group<3>(const ProblemContext<3>&, const CollisionGroup&, bool);
 
 }  // namespace ballagg

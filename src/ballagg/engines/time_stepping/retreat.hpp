@@ -77,20 +77,21 @@ struct Retreat {
   double theta;                // the fraction of the flight undone
   bool free;                   // at theta nothing overlaps (false: theta = 1, spheres from outside in the way)
   GroupSolution<D> solution;   // the group moved back by theta, its pairs left touching as contacts
-  // Every pair that can come within a contact distance along the flights (with a sphere
-  // outside the group: where it is now), sorted. What the flight sweep starts from.
+  // With with_candidates: every pair that can come within a contact distance along the
+  // flights (with a sphere outside the group: where it is now), in no particular order.
+  // What the flight sweep starts from; the plain retreat does not need them.
   std::vector<SpherePair> candidates;
 };
 
 template <int D>
-Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& group);
+Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& group, bool with_candidates = false);
 
 template <int D>
 GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionGroup& group) {
   return retreat_group(ctx, group).solution;
 }
 
-extern template Retreat<2> retreat_group<2>(const ProblemContext<2>&, const CollisionGroup&);
-extern template Retreat<3> retreat_group<3>(const ProblemContext<3>&, const CollisionGroup&);
+extern template Retreat<2> retreat_group<2>(const ProblemContext<2>&, const CollisionGroup&, bool);
+extern template Retreat<3> retreat_group<3>(const ProblemContext<3>&, const CollisionGroup&, bool);
 
 }  // namespace ballagg
