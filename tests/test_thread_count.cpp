@@ -77,6 +77,21 @@ TEST(ThreadCount, TimeSteppingRunFilesDoNotDependOnIt) {
   expect_run_files_independent_of_threads(run_config(EngineKind::ts, 2, 5000, Boundary::periodic, 4000, 0.02));
 }
 
+// Every group sent to the fall-back (retreat_pairs 1) in long steps of a dense gas: the
+// first rounds repair hundreds of groups, in waves shared among the threads
+// (repair_waves.hpp), with walls and periodic faces.
+TEST(ThreadCount, TimeSteppingRepairsInWavesDoNotDependOnIt) {
+  for (const int dimension : {2, 3})
+    for (const Boundary boundary : {Boundary::walls, Boundary::periodic}) {
+      SCOPED_TRACE(std::to_string(dimension) + "D " + std::string(to_string(boundary)));
+      Config c = run_config(EngineKind::ts, dimension, dimension == 2 ? 10000 : 5000, boundary, 1, 0.3);
+      c.ts.retreat_pairs = 1;
+      c.ts.dt_factor = 0.05;
+      c.stop.time = 1.0;
+      expect_run_files_independent_of_threads(c);
+    }
+}
+
 // One long step (dt_factor 0.05) of a dense gas (Vf 0.3), on enough spheres that every
 // parallel loop of a step runs on threads: positions, the near-pair scan, the contact
 // checks (kParallelLoopMin spheres) and the solution of the collision groups

@@ -7,6 +7,7 @@
 #include <set>
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include "support.hpp"
 
@@ -14,6 +15,7 @@
 #include "ballagg/engines/time_stepping/adhesive_set.hpp"
 #include "ballagg/engines/time_stepping/daha.hpp"
 #include "ballagg/engines/time_stepping/near_pairs.hpp"
+#include "ballagg/engines/time_stepping/repair_waves.hpp"
 #include "ballagg/engines/time_stepping/step_bodies.hpp"
 #include "ballagg/spatial/movable_cell_list.hpp"
 
@@ -229,6 +231,108 @@ TEST(MovableCellList, MovedItemsAreFoundWhereTheyAreAndOnlyThere) {
   moved_items_are_found_where_they_are<2>(Boundary::periodic);
   moved_items_are_found_where_they_are<3>(Boundary::walls);
   moved_items_are_found_where_they_are<3>(Boundary::periodic);
+}
+
+// The counting sort of SortedCellList shared among threads leaves every item in the slot
+// the serial sort gives it (a cell's items in increasing id), so nothing downstream can
+// tell how many threads built the list.
+template <int D>
+void parallel_build_matches_serial_build(Boundary boundary) {
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double length = D == 2 ? 60.0 : 16.0;
+  const Box<D> box{length, boundary};
+  std::vector<Vec<D>> points(3 * kParallelLoopMin);
+  for (Vec<D>& p : points)
+    for (int a = 0; a < D; ++a) p[a] = length * unit(rng);
+  auto build_on = [&](int threads) {
+    const int previous = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    SortedCellList<D> cells(box, 0.9, static_cast<int>(points.size()));
+    cells.build(points);
+    omp_set_num_threads(previous);
+    return cells;
+  };
+  const SortedCellList<D> serial = build_on(1), parallel = build_on(2);
+  ASSERT_EQ(serial.order(), parallel.order());
+  for (std::int64_t c = 0; c <= serial.n_cells(); ++c) ASSERT_EQ(serial.first_slot(c), parallel.first_slot(c));
+  for (std::int64_t c = 0; c < parallel.n_cells(); ++c)
+    for (std::int32_t k = parallel.first_slot(c); k < parallel.first_slot(c + 1); ++k) {
+      const int i = parallel.order()[k];
+      EXPECT_EQ(parallel.grid().cell_index(points[i]), c);
+      EXPECT_EQ(parallel.sorted_position(k), points[i]);
+      if (k > parallel.first_slot(c)) {
+        EXPECT_LT(parallel.order()[k - 1], i);
+      }
+    }
+}
+
+TEST(SortedCellList, BuildOnTwoThreadsGivesTheSerialSlots) {
+  parallel_build_matches_serial_build<2>(Boundary::walls);
+  parallel_build_matches_serial_build<2>(Boundary::periodic);
+  parallel_build_matches_serial_build<3>(Boundary::periodic);
+}
+
+// Whether two regions meet: their intervals overlap on every axis (in a periodic box, for
+// some images of them).
+template <int D>
+bool regions_meet(const Region<D>& a, const Region<D>& b, const Box<D>& box) {
+  for (int k = 0; k < D; ++k) {
+    bool overlap = false;
+    const int images = box.periodic() ? 3 : 0;
+    for (int m = -images; m <= images; ++m)
+      overlap = overlap || (a.lo[k] <= b.hi[k] + m * box.length && b.lo[k] + m * box.length <= a.hi[k]);
+    if (!overlap) return false;
+  }
+  return true;
+}
+
+// waves_of_regions: every region once, and a region meeting an earlier one is in a later
+// wave (so the regions of one wave never meet, and running a wave at once cannot change
+// what the order gives). Regions of mixed sizes, some wider than the tiles, some unfolded
+// beyond the box in a periodic one.
+template <int D>
+void waves_respect_the_order_of_regions_that_meet(Boundary boundary) {
+  std::mt19937 rng(23);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const Box<D> box{100.0, boundary};
+  std::vector<Region<D>> regions(400);
+  for (std::size_t k = 0; k < regions.size(); ++k) {
+    const double half_width = k % 37 == 0 ? 30.0 * unit(rng) : 1.0 + 4.0 * unit(rng);
+    for (int a = 0; a < D; ++a) {
+      const double centre = box.periodic() ? box.length * (2.0 * unit(rng) - 0.5) : box.length * unit(rng);
+      regions[k].lo[a] = centre - half_width * (0.5 + unit(rng));
+      regions[k].hi[a] = centre + half_width * (0.5 + unit(rng));
+    }
+  }
+  const auto waves = waves_of_regions<D>(regions, box);
+  std::vector<int> wave_of(regions.size(), -1);
+  for (std::size_t w = 0; w < waves.size(); ++w) {
+    EXPECT_FALSE(waves[w].empty());
+    EXPECT_TRUE(std::is_sorted(waves[w].begin(), waves[w].end()));
+    for (std::size_t k : waves[w]) {
+      ASSERT_EQ(wave_of[k], -1) << "region " << k << " twice";
+      wave_of[k] = static_cast<int>(w);
+    }
+  }
+  int met = 0;
+  for (std::size_t j = 0; j < regions.size(); ++j) {
+    ASSERT_GE(wave_of[j], 0) << "region " << j << " in no wave";
+    for (std::size_t i = 0; i < j; ++i)
+      if (regions_meet(regions[i], regions[j], box)) {
+        ++met;
+        EXPECT_LT(wave_of[i], wave_of[j]) << "regions " << i << " and " << j << " meet";
+      }
+  }
+  EXPECT_GT(met, 100);                         // the test has conflicts to respect
+  EXPECT_LT(waves.size(), regions.size() / 4);  // and the waves are not one region each
+}
+
+TEST(RepairWaves, RegionsThatMeetAreInWavesInTheirOrder) {
+  waves_respect_the_order_of_regions_that_meet<2>(Boundary::walls);
+  waves_respect_the_order_of_regions_that_meet<2>(Boundary::periodic);
+  waves_respect_the_order_of_regions_that_meet<3>(Boundary::walls);
+  waves_respect_the_order_of_regions_that_meet<3>(Boundary::periodic);
 }
 
 TEST(PairIndex, FindsEveryPairInEitherOrderAndForgetsThemWhenCleared) {

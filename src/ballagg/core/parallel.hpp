@@ -22,6 +22,15 @@ inline int max_threads() {
 #endif
 }
 
+// The number of threads of the current team (1 outside a parallel region).
+inline int team_size() {
+#ifdef _OPENMP
+  return omp_get_num_threads();
+#else
+  return 1;
+#endif
+}
+
 inline int thread_index() {
 #ifdef _OPENMP
   return omp_get_thread_num();

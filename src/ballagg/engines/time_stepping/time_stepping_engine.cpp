@@ -14,6 +14,7 @@
 #include "ballagg/engines/time_stepping/flight_sweep.hpp"
 #include "ballagg/engines/time_stepping/minimisation_problem.hpp"
 #include "ballagg/engines/time_stepping/near_pairs.hpp"
+#include "ballagg/engines/time_stepping/repair_waves.hpp"
 #include "ballagg/engines/time_stepping/retreat.hpp"
 #include "ballagg/engines/time_stepping/step_bodies.hpp"
 #include "ballagg/engines/time_stepping/time_step_rule.hpp"
@@ -46,6 +47,11 @@ constexpr std::size_t kSightingsKept = std::size_t{1} << 16;
 
 // Pairs in one round above which its groups are solved on several threads.
 constexpr std::size_t kParallelPairs = 2000;
+
+// Groups in one wave of fall-backs from which they are repaired on several threads (a
+// repair at N = 10^6 takes about 0.2 ms, and a large one shares its own searches among
+// the threads when it runs alone).
+constexpr std::int64_t kParallelRepairs = 4;
 
 // Sorts and removes repeats.
 template <class T, class Less = std::less<T>>
@@ -102,7 +108,8 @@ class TimeSteppingEngine final : public Engine<D> {
   GroupSolution<D> repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
   bool beyond_minimisation(const State<D>& s, const CollisionGroup& group) const;
   std::uint64_t round_signature() const;
-  void apply(const State<D>& s, const GroupSolution<D>& solution, std::vector<int>& moved);
+  void apply(const State<D>& s, const std::vector<const GroupSolution<D>*>& solutions, std::vector<int>& moved);
+  void apply(const State<D>& s, const GroupSolution<D>& solution, std::vector<int>& moved) { apply(s, {&solution}, moved); }
   std::vector<SpherePair> new_overlaps(const State<D>& s, std::vector<int>& moved);
   bool end_round(const State<D>& s, const std::vector<CollisionGroup>& groups,
                  const std::vector<GroupSolution<D>>& solutions, const std::vector<SpherePair>& overlaps);
@@ -132,6 +139,7 @@ class TimeSteppingEngine final : public Engine<D> {
   const State<D>* positions_of_ = nullptr;   // set: positions_ not yet computed for this step's time
   std::vector<Vec<D>> step_shift_;           // per sphere: its displacement by this step's minimisations
   std::vector<Vec<D>> moved_since_binning_;  // per sphere, for the staleness of the cell list
+  std::vector<char> rebin_sphere_;           // per sphere, within apply(): moved beyond the cell slack
   std::vector<Vec<D>> flight_;               // per cluster: its displacement by this step's free flight
   std::optional<MovableCellList<D>> cells_;
   double cell_slack_ = 0.0;                  // how far a sphere may move before it is re-binned
@@ -237,6 +245,7 @@ void TimeSteppingEngine<D>::prepare(const State<D>& s) {
   positions_of_ = nullptr;
   step_shift_.assign(n, Vec<D>::Zero());
   moved_since_binning_.assign(n, Vec<D>::Zero());
+  rebin_sphere_.assign(n, 0);
   last_pass_.assign(n, -1);
   pass_ = 0;
   forget_at_ = kSightingsKept;
@@ -394,16 +403,28 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
         if (!beyond_minimisation(s, groups[k])) solutions[k] = solve_group(ctx, groups[k]);
     }
     moved.clear();
-    for (std::size_t k = 0; k < groups.size(); ++k)
-      if (solutions[k].result.converged) apply(s, solutions[k], moved);
+    std::vector<const GroupSolution<D>*> solved;
+    for (const GroupSolution<D>& solution : solutions)
+      if (solution.result.converged) solved.push_back(&solution);
+    apply(s, solved, moved);
     // The groups the minimisation did not solve are repaired one after the other, each
-    // seeing where everything else has gone.
-    for (std::size_t k = 0; k < groups.size(); ++k) {
-      if (solutions[k].result.converged) continue;
-      const int iterations = solutions[k].result.iterations;
-      solutions[k] = repair(context(s), groups[k]);
-      solutions[k].result.iterations += iterations;
-      apply(s, solutions[k], moved);
+    // seeing where everything else has gone, in the order of repair_waves.hpp; those that
+    // cannot see each other at once, wave by wave (the same answers).
+    std::vector<std::size_t> failed;
+    for (std::size_t k = 0; k < groups.size(); ++k)
+      if (!solutions[k].result.converged) failed.push_back(k);
+    for (const std::vector<std::size_t>& wave : repair_waves(ctx, groups, failed)) {
+      const std::int64_t n_wave = static_cast<std::int64_t>(wave.size());
+#pragma omp parallel for schedule(dynamic) if (n_wave >= kParallelRepairs)
+      for (std::int64_t w = 0; w < n_wave; ++w) {
+        const std::size_t k = wave[w];
+        const int iterations = solutions[k].result.iterations;
+        solutions[k] = repair(ctx, groups[k]);
+        solutions[k].result.iterations += iterations;
+      }
+      std::vector<const GroupSolution<D>*> repaired;
+      for (std::size_t k : wave) repaired.push_back(&solutions[k]);
+      apply(s, repaired, moved);
     }
     moved_in_step_.insert(moved_in_step_.end(), moved.begin(), moved.end());
     if (out_of_rounds) {
@@ -476,28 +497,49 @@ std::uint64_t TimeSteppingEngine<D>::round_signature() const {
   return h;
 }
 
-// Moves the spheres of a solution in positions_ (the state is moved at commit).
+// Moves the spheres of these solutions in positions_ (the state is moved at commit). The
+// solutions move disjoint spheres: on several threads when they are many (early in a run
+// of 10^6 a round applies 10^5 solutions); the cell list is then updated in solution order.
 template <int D>
-void TimeSteppingEngine<D>::apply(const State<D>& s, const GroupSolution<D>& g, std::vector<int>& moved) {
-  ++counters_.minimisations;
-  counters_.daha_iterations += g.result.iterations;
-  counters_.max_link_stretch = std::max(counters_.max_link_stretch, g.link_stretch);
-  if (g.placed_at_contact) ++counters_.placed_at_contact;
-  for (const SpherePair& l : g.old_links) links_.add(l.i, l.j, l.lambda);
-  const Box<D>& box = *box_;
-  for (std::size_t k = 0; k < g.spheres.size(); ++k) {
-    const int i = g.spheres[k];
-    positions_[i] = box.wrap(positions_[i] + g.shift[k]);
-    step_shift_[i] += g.shift[k];
-    last_pass_[i] = pass_;
-    if (near_.travel(s.spheres.cluster[i]) + step_shift_[i].norm() > 0.5 * near_.skin()) near_list_complete_ = false;
-    moved_since_binning_[i] += g.shift[k];
-    if (moved_since_binning_[i].norm() > cell_slack_) {
-      cells_->move(i, positions_[i]);
-      moved_since_binning_[i].setZero();
-    }
-    moved.push_back(i);
+void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const GroupSolution<D>*>& solutions,
+                                  std::vector<int>& moved) {
+  std::size_t n_moved = 0;
+  for (const GroupSolution<D>* g : solutions) {
+    ++counters_.minimisations;
+    counters_.daha_iterations += g->result.iterations;
+    counters_.max_link_stretch = std::max(counters_.max_link_stretch, g->link_stretch);
+    if (g->placed_at_contact) ++counters_.placed_at_contact;
+    for (const SpherePair& l : g->old_links) links_.add(l.i, l.j, l.lambda);
+    n_moved += g->spheres.size();
   }
+  const Box<D>& box = *box_;
+  const double half_skin = 0.5 * near_.skin();
+  bool beyond_skin = false;
+  const std::int64_t n_solutions = static_cast<std::int64_t>(solutions.size());
+#pragma omp parallel for schedule(dynamic, 64) reduction(|| : beyond_skin) \
+    if (n_solutions > 1 && n_moved >= static_cast<std::size_t>(kParallelLoopMin))
+  for (std::int64_t k = 0; k < n_solutions; ++k) {
+    const GroupSolution<D>& g = *solutions[k];
+    for (std::size_t m = 0; m < g.spheres.size(); ++m) {
+      const int i = g.spheres[m];
+      positions_[i] = box.wrap(positions_[i] + g.shift[m]);
+      step_shift_[i] += g.shift[m];
+      last_pass_[i] = pass_;
+      if (near_.travel(s.spheres.cluster[i]) + step_shift_[i].norm() > half_skin) beyond_skin = true;
+      moved_since_binning_[i] += g.shift[m];
+      rebin_sphere_[i] = moved_since_binning_[i].norm() > cell_slack_;
+    }
+  }
+  if (beyond_skin) near_list_complete_ = false;
+  for (const GroupSolution<D>* g : solutions)
+    for (int i : g->spheres) {
+      if (rebin_sphere_[i]) {
+        cells_->move(i, positions_[i]);
+        moved_since_binning_[i].setZero();
+        rebin_sphere_[i] = 0;
+      }
+      moved.push_back(i);
+    }
   if (cells_->n_moved() * kMovedFractionForRebuild > positions_.size()) rebin();
 }
 
