@@ -198,30 +198,14 @@ void FlightSweep<D>::search_walls(int body, double tau) {
   if (tau + first <= 1.0) events_.push({tau + first, -1, -1, first_k, -1, epoch_[first_k], 0});
 }
 
-// Every event of a body whose motion changed at tau. A body of several clusters is tested
-// against each other cluster as a whole first (a sphere around its clusters' bounding
-// spheres; its clusters share one flight): a group of a few hundred clusters merges a few
-// hundred times, and testing every cluster of each new body against every cluster of the
-// group was the sweep's largest cost.
+// Every event of a body whose motion changed at tau.
 template <int D>
 void FlightSweep<D>::search(int body, double tau) {
-  const std::vector<int>& members = members_[body];
-  const int first = members.front();
-  const Vec<D> centre = starts_[first].centre + displacement(first, tau);
-  double radius = 0.0;  // of the body, around the centre of its first cluster
-  for (int k : members)
-    radius = std::max(radius, s_.box.separation(Vec<D>(starts_[k].centre + displacement(k, tau)), centre).norm() +
-                                  starts_[k].radius);
-  for (int m = 0; m < static_cast<int>(clusters_.size()); ++m) {
-    if (root(m) == body) continue;
-    if (members.size() > 1) {
-      const Vec<D> between = s_.box.separation(centre, Vec<D>(starts_[m].centre + displacement(m, tau)));
-      if (distance_to_segment<D>(between, (1.0 - tau) * (v_[first] - v_[m])) > radius + starts_[m].radius + contact_reach_)
-        continue;
-    }
-    for (int k : members) search_clusters(k, m, tau);
+  for (int k : members_[body]) {
+    for (int m = 0; m < static_cast<int>(clusters_.size()); ++m)
+      if (root(m) != body) search_clusters(k, m, tau);
+    search_outside(k, tau);
   }
-  for (int k : members) search_outside(k, tau);
   search_walls(body, tau);
 }
 
