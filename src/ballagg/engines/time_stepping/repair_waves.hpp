@@ -2,9 +2,9 @@
 // The fall-backs of one round, in waves that can run at once.
 //
 // The groups of a round that the minimisation did not solve are repaired (retreat.hpp,
-// flight_sweep.hpp) in group order, each seeing where the earlier repairs left their
+// flight_sweep.hpp) one after the other, each seeing where the earlier repairs left their
 // spheres. At N = 10^6 the first steps send thousands of groups per round to the fall-back,
-// and done one after the other they were a fifth of a run that the threads could not share.
+// and done so they were a third of a run on two threads (17 of 49 s), on one of them.
 //
 // A repair touches only a neighbourhood of its group. Every cluster of the group stays
 // within 2 F of where free flight put it, F the group's longest flight in the step: it goes
@@ -12,7 +12,7 @@
 // mean of flights of the group or zero (at most F more). The repair moves only the group's
 // spheres, and it reads the spheres outside only within a contact distance of those paths.
 // So its region, the box around its spheres' places (where free flight put them and where
-// they are now) widened by 2 F plus a contact distance, holds all it reads and writes; two
+// they are now) widened by 2 F and two contact distances, holds all it reads and writes; two
 // groups whose regions are disjoint cannot see each other, and repairing them in either
 // order, or at once, gives the same answers.
 //
