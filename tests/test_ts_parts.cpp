@@ -23,9 +23,11 @@ namespace ballagg {
 namespace {
 
 // The near-pair list against a brute-force search over all pairs, while clusters move by
-// random amounts (some beyond the half skin, most not) and merge.
+// random amounts (some beyond the half skin, most not) and merge. With a giant, 85 % of
+// the spheres are first joined into one cluster that drifts beyond the half skin at every
+// step, as late in a run: its pairs are then listed from the side of the other spheres.
 template <int D>
-void near_pairs_find_every_contact(Boundary boundary) {
+void near_pairs_find_every_contact(Boundary boundary, bool giant = false) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double length = D == 2 ? 30.0 : 12.0;
@@ -43,13 +45,16 @@ void near_pairs_find_every_contact(Boundary boundary) {
   SortedCellList<D> cells(s.box, 1.5 * 2.0 * s.max_radius(), s.n_spheres());
   NearPairs<D> near(static_cast<int>(s.clusters.size()), cells.cell_size() - 2.0 * s.max_radius());
   std::vector<Vec<D>> positions(s.n_spheres());
+  const int giant_id = giant ? s.spheres.cluster[0] : -1;
+  for (int i = 1; giant && i < s.n_spheres() * 85 / 100; ++i) s.merge(0, i, 0.0);
   int lazy_steps = 0;  // steps in which only the listed pairs' positions were asked for
   for (int step = 0; step < 60; ++step) {
     const bool quiet = step % 5 == 4;  // nothing moves: no cluster is stale
     for (int c : quiet ? std::vector<int>{} : s.alive_clusters()) {
       Vec<D> du;
       for (int a = 0; a < D; ++a) du[a] = unit(rng) - 0.5;
-      du *= (unit(rng) < 0.1 ? 0.6 : 0.05) * cells.cell_size() / du.norm();
+      const bool far = s.spheres.cluster[0] == c && giant_id >= 0 ? true : unit(rng) < 0.1;
+      du *= (far ? 0.6 : giant ? 0.01 : 0.05) * cells.cell_size() / du.norm();
       s.translate(c, du, 0.0);
       near.travelled(c, du.norm());
     }
@@ -102,13 +107,23 @@ void near_pairs_find_every_contact(Boundary boundary) {
   EXPECT_GE(near.full_scans(), 1);
   EXPECT_GE(near.partial_scans(), 10);
   EXPECT_GE(lazy_steps, 10);
-  EXPECT_LT(s.n_clusters(), 380);
+  if (giant) {
+    EXPECT_GE(near.outside_scans(), 20);
+  } else {
+    EXPECT_LT(s.n_clusters(), 380);
+  }
 }
 
 TEST(NearPairs, EveryContactIsFoundAsByABruteForceSearch) {
   near_pairs_find_every_contact<2>(Boundary::walls);
   near_pairs_find_every_contact<2>(Boundary::periodic);
   near_pairs_find_every_contact<3>(Boundary::periodic);
+}
+
+TEST(NearPairs, TheDriftingGiantsPairsAreFoundFromTheOtherSpheres) {
+  near_pairs_find_every_contact<2>(Boundary::walls, true);
+  near_pairs_find_every_contact<2>(Boundary::periodic, true);
+  near_pairs_find_every_contact<3>(Boundary::periodic, true);
 }
 
 // The distance from p to the segment from a to a + d; in a periodic box, to its nearest

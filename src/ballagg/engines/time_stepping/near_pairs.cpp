@@ -8,8 +8,8 @@
 namespace ballagg {
 namespace {
 
-// Above this fraction of the spheres in stale clusters, the whole box is scanned (a half
-// stencil over cells, cheaper per sphere than a query per sphere).
+// When a refresh would query more than this fraction of the spheres, the whole box is
+// scanned instead (a half stencil over cells, cheaper per sphere than a query per sphere).
 constexpr double kFullScanFraction = 0.25;
 
 template <class Pair>
@@ -49,19 +49,41 @@ template <int D>
 std::vector<SpherePair> NearPairs<D>::contacts(const State<D>& s, const std::vector<Vec<D>>& positions,
                                                const std::function<const SortedCellList<D>&()>& cells,
                                                const std::function<void(const std::vector<std::int32_t>&)>& need) {
-  std::vector<int> stale_spheres;
+  std::vector<int> stale_clusters;
+  std::size_t n_stale = 0;  // their spheres
+  int largest = -1;         // the largest of them
   bool never_listed = false;
   for (int c : s.alive_clusters()) {
     if (!stale(c)) continue;
     never_listed = never_listed || travel_[c] == std::numeric_limits<double>::infinity();
-    const auto& members = s.clusters[c].members;
-    stale_spheres.insert(stale_spheres.end(), members.begin(), members.end());
+    stale_clusters.push_back(c);
+    n_stale += static_cast<std::size_t>(s.clusters[c].size());
+    if (largest < 0 || s.clusters[c].size() > s.clusters[largest].size()) largest = c;
   }
-  if (never_listed || static_cast<double>(stale_spheres.size()) > kFullScanFraction * s.n_spheres()) {
+  // The pairs of the stale clusters are listed again by a query around each stale sphere
+  // or, when one stale cluster holds most spheres (late in a run the giant drifts beyond
+  // the skin every few steps), around each sphere outside it: its pairs are found from the
+  // side of the others. The whole box is scanned when both would query too many spheres.
+  const std::size_t n = static_cast<std::size_t>(s.n_spheres());
+  const std::size_t outside_largest = largest < 0 ? n : n - static_cast<std::size_t>(s.clusters[largest].size());
+  const std::size_t queries = std::min(n_stale, outside_largest);
+  if (never_listed || static_cast<double>(queries) > kFullScanFraction * static_cast<double>(n)) {
     scan_all(s, cells());
     ++full_scans_;
-  } else if (!stale_spheres.empty()) {
-    refresh(s, cells(), positions, stale_spheres);
+  } else if (n_stale > 0) {
+    std::vector<char> is_stale(travel_.size(), 0);
+    for (int c : stale_clusters) is_stale[c] = 1;
+    std::vector<char> queried = is_stale;
+    if (outside_largest < n_stale) {
+      for (int c : s.alive_clusters()) queried[c] = c != largest;
+      ++outside_scans_;
+    }
+    std::vector<int> query_spheres;
+    query_spheres.reserve(queries);
+    for (int c : s.alive_clusters())
+      if (queried[c]) query_spheres.insert(query_spheres.end(), s.clusters[c].members.begin(), s.clusters[c].members.end());
+    refresh(s, cells(), positions, is_stale, queried, query_spheres);
+    for (int c : stale_clusters) travel_[c] = 0.0;
     ++partial_scans_;
   } else {
     std::vector<std::int32_t> listed;
@@ -146,24 +168,27 @@ void NearPairs<D>::scan_all(const State<D>& s, const SortedCellList<D>& cells) {
   std::fill(travel_.begin(), travel_.end(), 0.0);
 }
 
+// Lists again every pair with a sphere of a stale cluster, by a query around each sphere
+// of the queried clusters (the stale ones, or every cluster but the largest stale one; a
+// pair is found from a queried side, and once).
 template <int D>
 void NearPairs<D>::refresh(const State<D>& s, const SortedCellList<D>& cells, const std::vector<Vec<D>>& positions,
-                           const std::vector<int>& stale_spheres) {
-  std::vector<char> is_stale(travel_.size(), 0);
-  for (int i : stale_spheres) is_stale[s.spheres.cluster[i]] = 1;
+                           const std::vector<char>& is_stale, const std::vector<char>& queried,
+                           const std::vector<int>& query_spheres) {
   std::erase_if(pairs_, [&](const Pair& p) {
     return is_stale[s.spheres.cluster[p.i]] || is_stale[s.spheres.cluster[p.j]];
   });
   std::vector<std::vector<Pair>> found(max_threads());
-  const std::int64_t n = static_cast<std::int64_t>(stale_spheres.size());
-#pragma omp parallel for schedule(dynamic, 256) if (static_cast<std::int64_t>(stale_spheres.size()) >= kParallelLoopMin)
+  const std::int64_t n = static_cast<std::int64_t>(query_spheres.size());
+#pragma omp parallel for schedule(dynamic, 256) if (n >= kParallelLoopMin)
   for (std::int64_t k = 0; k < n; ++k) {
-    const int i = stale_spheres[k];
+    const int i = query_spheres[k];
     const int ci = s.spheres.cluster[i];
     std::vector<Pair>& mine = found[thread_index()];
     cells.for_each_near(positions[i], [&](int j) {
       const int cj = s.spheres.cluster[j];
-      if (cj == ci || (is_stale[cj] && j < i)) return;  // a pair of two stale spheres once
+      if (cj == ci || !(is_stale[ci] || is_stale[cj])) return;  // same cluster, or still listed
+      if (queried[cj] && j < i) return;                           // found from j's side
       const double near = s.spheres.radius[i] + s.spheres.radius[j] + skin_;
       if (s.box.separation(positions[i], positions[j]).squaredNorm() <= near * near)
         mine.push_back({std::min(i, j), std::max(i, j)});
@@ -177,7 +202,6 @@ void NearPairs<D>::refresh(const State<D>& s, const SortedCellList<D>& cells, co
   pairs_.insert(pairs_.end(), fresh.begin(), fresh.end());
   std::inplace_merge(pairs_.begin(), pairs_.begin() + static_cast<std::ptrdiff_t>(old_size), pairs_.end(),
                      pair_less<Pair>);
-  for (int i : stale_spheres) travel_[s.spheres.cluster[i]] = 0.0;
 }
 
 template class NearPairs<2>;

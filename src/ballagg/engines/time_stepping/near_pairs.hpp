@@ -9,9 +9,11 @@
 // it has travelled since its pairs were listed (an upper bound for each of its spheres).
 // While two clusters have both travelled at most skin / 2, every pair of theirs that
 // overlaps now is in the list. A cluster that travelled more is *stale*: its pairs are
-// listed again from the cell list of the step. Late in a run, when a few large, slow
-// clusters hold most spheres, a step then costs the few fast clusters' spheres and the
-// listed pairs, instead of every sphere of the box. The pairs found are exactly those a
+// listed again from the cell list of the step, by queries around its spheres or, when one
+// stale cluster holds most of the box, around the spheres outside it. Late in a run, when
+// a few large, slow clusters hold most spheres, a step then costs the few fast clusters'
+// spheres and the listed pairs, instead of every sphere of the box; and when the giant
+// drifts beyond the skin, the spheres outside it. The pairs found are exactly those a
 // scan of the whole box finds.
 #include <cstdint>
 #include <functional>
@@ -58,10 +60,12 @@ class NearPairs {
   double travel(int c) const { return travel_[c]; }
   double skin() const { return skin_; }
 
-  // Detections that scanned the whole box (the first, and those where the stale clusters
-  // held more than kFullScanFraction of the spheres), and those that refreshed a part.
+  // Detections that scanned the whole box (the first, and those that would otherwise have
+  // queried more than kFullScanFraction of the spheres), those that refreshed a part, and
+  // of these the ones that queried the spheres outside the largest stale cluster.
   std::int64_t full_scans() const { return full_scans_; }
   std::int64_t partial_scans() const { return partial_scans_; }
+  std::int64_t outside_scans() const { return outside_scans_; }
 
  private:
   struct Pair {
@@ -70,7 +74,8 @@ class NearPairs {
   bool stale(int c) const { return !(travel_[c] <= 0.5 * skin_); }
   void scan_all(const State<D>& s, const SortedCellList<D>& cells);
   void refresh(const State<D>& s, const SortedCellList<D>& cells, const std::vector<Vec<D>>& positions,
-               const std::vector<int>& stale_spheres);
+               const std::vector<char>& is_stale, const std::vector<char>& queried,
+               const std::vector<int>& query_spheres);
 
   double skin_ = 0.0;
   std::vector<double> travel_;        // per cluster id; +inf before the first listing
@@ -79,7 +84,7 @@ class NearPairs {
   std::vector<Pair> pairs_;           // sorted by (i, j)
   std::vector<std::int32_t> listed_at_;  // per sphere: the last contacts() that found it in a pair
   std::int32_t listing_ = 0;             // contacts() calls so far
-  std::int64_t full_scans_ = 0, partial_scans_ = 0;
+  std::int64_t full_scans_ = 0, partial_scans_ = 0, outside_scans_ = 0;
 };
 
 }  // namespace ballagg

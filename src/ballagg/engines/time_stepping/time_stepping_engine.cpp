@@ -51,7 +51,12 @@ constexpr std::size_t kParallelPairs = 2000;
 // Groups in one wave of fall-backs from which they are repaired on several threads (a
 // repair at N = 10^6 takes about 0.2 ms, and a large one shares its own searches among
 // the threads when it runs alone).
-constexpr std::int64_t kParallelRepairs = 4;
+constexpr std::int64_t kParallelRepairs = 2;
+
+// Spheres moved by one apply() from which they are moved on several threads (scattered
+// reads and writes of about 0.1 us each at N = 10^6: a wave of two fall-backs moves
+// hundreds of spheres).
+constexpr std::size_t kParallelApply = 1024;
 
 // Sorts and removes repeats.
 template <class T, class Less = std::less<T>>
@@ -516,8 +521,9 @@ void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const Gro
   const double half_skin = 0.5 * near_.skin();
   bool beyond_skin = false;
   const std::int64_t n_solutions = static_cast<std::int64_t>(solutions.size());
-#pragma omp parallel for schedule(dynamic, 64) reduction(|| : beyond_skin) \
-    if (n_solutions > 1 && n_moved >= static_cast<std::size_t>(kParallelLoopMin))
+  const int chunk = static_cast<int>(std::clamp<std::int64_t>(n_solutions / 64, 1, 64));
+#pragma omp parallel for schedule(dynamic, chunk) reduction(|| : beyond_skin) \
+    if (n_solutions > 1 && n_moved >= kParallelApply)
   for (std::int64_t k = 0; k < n_solutions; ++k) {
     const GroupSolution<D>& g = *solutions[k];
     for (std::size_t m = 0; m < g.spheres.size(); ++m) {
