@@ -54,8 +54,8 @@ constexpr std::size_t kParallelPairs = 2000;
 constexpr std::int64_t kParallelRepairs = 2;
 
 // Spheres moved by one apply() from which they are moved on several threads (scattered
-// reads and writes of about 0.1 us each at N = 10^6: a wave of two fall-backs moves
-// hundreds of spheres).
+// reads and writes; about 0.2 us a sphere at N = 10^6 with the cell-list moves, measured
+// in session 12: a wave of two fall-backs moves hundreds of spheres).
 constexpr std::size_t kParallelApply = 1024;
 
 // Sorts and removes repeats.
