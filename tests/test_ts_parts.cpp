@@ -45,7 +45,6 @@ void near_pairs_find_every_contact(Boundary boundary, bool giant = false) {
   SortedCellList<D> cells(s.box, 1.5 * 2.0 * s.max_radius(), s.n_spheres());
   NearPairs<D> near(static_cast<int>(s.clusters.size()), cells.cell_size() - 2.0 * s.max_radius());
   std::vector<Vec<D>> positions(s.n_spheres());
-  const int giant_id = giant ? s.spheres.cluster[0] : -1;
   for (int i = 1; giant && i < s.n_spheres() * 85 / 100; ++i) s.merge(0, i, 0.0);
   int lazy_steps = 0;  // steps in which only the listed pairs' positions were asked for
   for (int step = 0; step < 60; ++step) {
@@ -53,7 +52,7 @@ void near_pairs_find_every_contact(Boundary boundary, bool giant = false) {
     for (int c : quiet ? std::vector<int>{} : s.alive_clusters()) {
       Vec<D> du;
       for (int a = 0; a < D; ++a) du[a] = unit(rng) - 0.5;
-      const bool far = s.spheres.cluster[0] == c && giant_id >= 0 ? true : unit(rng) < 0.1;
+      const bool far = (giant && s.spheres.cluster[0] == c) || unit(rng) < 0.1;  // the giant always
       du *= (far ? 0.6 : giant ? 0.01 : 0.05) * cells.cell_size() / du.norm();
       s.translate(c, du, 0.0);
       near.travelled(c, du.norm());

@@ -73,15 +73,20 @@ std::vector<SpherePair> NearPairs<D>::contacts(const State<D>& s, const std::vec
   } else if (n_stale > 0) {
     std::vector<char> is_stale(travel_.size(), 0);
     for (int c : stale_clusters) is_stale[c] = 1;
-    std::vector<char> queried = is_stale;
-    if (outside_largest < n_stale) {
-      for (int c : s.alive_clusters()) queried[c] = c != largest;
-      ++outside_scans_;
-    }
+    std::vector<char> queried(travel_.size(), 0);
     std::vector<int> query_spheres;
     query_spheres.reserve(queries);
-    for (int c : s.alive_clusters())
-      if (queried[c]) query_spheres.insert(query_spheres.end(), s.clusters[c].members.begin(), s.clusters[c].members.end());
+    auto query = [&](int c) {
+      queried[c] = 1;
+      query_spheres.insert(query_spheres.end(), s.clusters[c].members.begin(), s.clusters[c].members.end());
+    };
+    if (outside_largest < n_stale) {
+      for (int c : s.alive_clusters())
+        if (c != largest) query(c);
+      ++outside_scans_;
+    } else {
+      for (int c : stale_clusters) query(c);
+    }
     refresh(s, cells(), positions, is_stale, queried, query_spheres);
     for (int c : stale_clusters) travel_[c] = 0.0;
     ++partial_scans_;
