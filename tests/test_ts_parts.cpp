@@ -26,6 +26,8 @@ namespace {
 // random amounts (some beyond the half skin, most not) and merge. With a giant, 85 % of
 // the spheres are first joined into one cluster that drifts beyond the half skin at every
 // step, as late in a run: its pairs are then listed from the side of the other spheres.
+// The partial refreshes get a cell list that binned each sphere up to its slack (half the
+// skin) away from where it is, as the engine's list kept from earlier steps does.
 template <int D>
 void near_pairs_find_every_contact(Boundary boundary, bool giant = false) {
   std::mt19937 rng(11);
@@ -43,7 +45,10 @@ void near_pairs_find_every_contact(Boundary boundary, bool giant = false) {
   }
   State<D> s = testing::make_state<D>(length, boundary, balls);
   SortedCellList<D> cells(s.box, 1.5 * 2.0 * s.max_radius(), s.n_spheres());
+  MovableCellList<D> kept(s.box, 1.5 * 2.0 * s.max_radius(), s.n_spheres());
   NearPairs<D> near(static_cast<int>(s.clusters.size()), cells.cell_size() - 2.0 * s.max_radius());
+  const double slack = 0.5 * near.skin();
+  std::vector<Vec<D>> binned_at(s.n_spheres());
   std::vector<Vec<D>> positions(s.n_spheres());
   for (int i = 1; giant && i < s.n_spheres() * 85 / 100; ++i) s.merge(0, i, 0.0);
   int lazy_steps = 0;  // steps in which only the listed pairs' positions were asked for
@@ -65,11 +70,23 @@ void near_pairs_find_every_contact(Boundary boundary, bool giant = false) {
       cells.build(positions);
       return cells;
     };
+    auto binned_nearby = [&]() -> const MovableCellList<D>& {
+      for (int i = 0; i < s.n_spheres(); ++i) {
+        positions[i] = s.position(i, 0.0);
+        Vec<D> off;
+        for (int a = 0; a < D; ++a) off[a] = unit(rng) - 0.5;
+        binned_at[i] = positions[i] + slack * off / off.norm();  // the farthest allowed
+        if (s.box.periodic()) binned_at[i] = s.box.wrap(binned_at[i]);
+        else binned_at[i] = binned_at[i].cwiseMax(0.0).cwiseMin(s.box.length);
+      }
+      kept.build(binned_at);
+      return kept;
+    };
     auto need = [&](const std::vector<std::int32_t>& ids) {
       ++lazy_steps;
       for (std::int32_t i : ids) positions[i] = s.position(i, 0.0);
     };
-    const std::vector<SpherePair> found = near.contacts(s, positions, all_positions, need);
+    const std::vector<SpherePair> found = near.contacts(s, positions, {all_positions, binned_nearby, slack}, need);
     std::vector<std::pair<int, int>> expected, got;
     for (int i = 0; i < s.n_spheres(); ++i)
       for (int j = i + 1; j < s.n_spheres(); ++j) {
@@ -123,6 +140,59 @@ TEST(NearPairs, TheDriftingGiantsPairsAreFoundFromTheOtherSpheres) {
   near_pairs_find_every_contact<2>(Boundary::walls, true);
   near_pairs_find_every_contact<2>(Boundary::periodic, true);
   near_pairs_find_every_contact<3>(Boundary::periodic, true);
+}
+
+// A partial refresh that queries around sphere A must list its near pair with B although
+// the cell list binned B by the full slack away, outside the 3 x 3 cells around A: the
+// cells are 1.5 wide (skin 0.5, slack 0.25), A sits just inside the left edge of its
+// cell, B 1.495 to its left and binned 0.25 further. Once both move 0.249 towards each
+// other (within the half skin, no refresh) they touch, and only the listed pair says so.
+TEST(NearPairs, APartialRefreshLooksAsFarAsTheCellListsSlack) {
+  std::vector<testing::Ball<2>> balls(2);
+  balls[0].x = Vec<2>(3.01, 5.25);   // A
+  balls[1].x = Vec<2>(1.515, 5.25);  // B
+  for (double x : {7.5, 8.7, 9.9, 11.1})  // far away: enough spheres for cells 1.5 wide
+    for (int k = 0; k < 10; ++k) balls.push_back({Vec<2>(x, 0.6 + 1.2 * k)});
+  for (auto& b : balls) {
+    b.v.setZero();
+    b.radius = 0.5;
+  }
+  State<2> s = testing::make_state<2>(12.0, Boundary::walls, balls);
+  SortedCellList<2> cells(s.box, 1.5, s.n_spheres());
+  MovableCellList<2> kept(s.box, 1.5, s.n_spheres());
+  ASSERT_DOUBLE_EQ(cells.cell_size(), 1.5);
+  NearPairs<2> near(static_cast<int>(s.clusters.size()), cells.cell_size() - 1.0);
+  const double slack = 0.5 * near.skin();
+  std::vector<Vec<2>> positions(s.n_spheres());
+  auto fill = [&] {
+    for (int i = 0; i < s.n_spheres(); ++i) positions[i] = s.position(i, 0.0);
+  };
+  auto rebuilt = [&]() -> const SortedCellList<2>& {
+    fill();
+    cells.build(positions);
+    return cells;
+  };
+  auto binned_away = [&]() -> const MovableCellList<2>& {
+    fill();
+    std::vector<Vec<2>> binned_at = positions;
+    binned_at[1].x() -= slack;
+    kept.build(binned_at);
+    return kept;
+  };
+  auto need = [&](const std::vector<std::int32_t>&) { fill(); };
+  const int a = s.spheres.cluster[0], b = s.spheres.cluster[1];
+  EXPECT_TRUE(near.contacts(s, positions, {rebuilt, binned_away, slack}, need).empty());  // the first: a full scan
+  near.travelled(a, 0.3);  // A is stale, B is not
+  EXPECT_TRUE(near.contacts(s, positions, {rebuilt, binned_away, slack}, need).empty());
+  EXPECT_EQ(near.full_scans(), 1);
+  EXPECT_EQ(near.partial_scans(), 1);
+  s.translate(a, Vec<2>(-0.249, 0.0), 0.0);
+  near.travelled(a, 0.249);
+  s.translate(b, Vec<2>(0.249, 0.0), 0.0);
+  near.travelled(b, 0.249);
+  const std::vector<SpherePair> touching = near.contacts(s, positions, {rebuilt, binned_away, slack}, need);
+  ASSERT_EQ(touching.size(), 1u);
+  EXPECT_EQ(std::make_pair(touching[0].i, touching[0].j), std::make_pair(0, 1));
 }
 
 // The distance from p to the segment from a to a + d; in a periodic box, to its nearest

@@ -47,7 +47,7 @@ void NearPairs<D>::merged(int a, int b, int into) {
 
 template <int D>
 std::vector<SpherePair> NearPairs<D>::contacts(const State<D>& s, const std::vector<Vec<D>>& positions,
-                                               const std::function<const SortedCellList<D>&()>& cells,
+                                               const NearPairCells<D>& cells,
                                                const std::function<void(const std::vector<std::int32_t>&)>& need) {
   std::vector<int> stale_clusters;
   std::size_t n_stale = 0;  // their spheres
@@ -68,7 +68,7 @@ std::vector<SpherePair> NearPairs<D>::contacts(const State<D>& s, const std::vec
   const std::size_t outside_largest = largest < 0 ? n : n - static_cast<std::size_t>(s.clusters[largest].size());
   const std::size_t queries = std::min(n_stale, outside_largest);
   if (never_listed || static_cast<double>(queries) > kFullScanFraction * static_cast<double>(n)) {
-    scan_all(s, cells());
+    scan_all(s, cells.rebuilt());
     ++full_scans_;
   } else if (n_stale > 0) {
     std::vector<char> is_stale(travel_.size(), 0);
@@ -87,7 +87,7 @@ std::vector<SpherePair> NearPairs<D>::contacts(const State<D>& s, const std::vec
     } else {
       for (int c : stale_clusters) query(c);
     }
-    refresh(s, cells(), positions, is_stale, queried, query_spheres);
+    refresh(s, cells.current(), cells.slack, positions, is_stale, queried, query_spheres);
     for (int c : stale_clusters) travel_[c] = 0.0;
     ++partial_scans_;
   } else {
@@ -175,9 +175,11 @@ void NearPairs<D>::scan_all(const State<D>& s, const SortedCellList<D>& cells) {
 
 // Lists again every pair with a sphere of a stale cluster, by a query around each sphere
 // of the queried clusters (the stale ones, or every cluster but the largest stale one; a
-// pair is found from a queried side, and once).
+// pair is found from a queried side, and once). A sphere within sigma + skin of sphere i
+// is binned within sigma + skin + slack of i.
 template <int D>
-void NearPairs<D>::refresh(const State<D>& s, const SortedCellList<D>& cells, const std::vector<Vec<D>>& positions,
+void NearPairs<D>::refresh(const State<D>& s, const MovableCellList<D>& cells, double slack,
+                           const std::vector<Vec<D>>& positions,
                            const std::vector<char>& is_stale, const std::vector<char>& queried,
                            const std::vector<int>& query_spheres) {
   std::erase_if(pairs_, [&](const Pair& p) {
@@ -185,12 +187,13 @@ void NearPairs<D>::refresh(const State<D>& s, const SortedCellList<D>& cells, co
   });
   std::vector<std::vector<Pair>> found(max_threads());
   const std::int64_t n = static_cast<std::int64_t>(query_spheres.size());
+  const double reach = 2.0 * s.max_radius() + skin_ + slack;
 #pragma omp parallel for schedule(dynamic, 256) if (n >= kParallelLoopMin)
   for (std::int64_t k = 0; k < n; ++k) {
     const int i = query_spheres[k];
     const int ci = s.spheres.cluster[i];
     std::vector<Pair>& mine = found[thread_index()];
-    cells.for_each_near(positions[i], [&](int j) {
+    cells.for_each_near_segment(positions[i], Vec<D>::Zero(), reach, [&](int j) {
       const int cj = s.spheres.cluster[j];
       if (cj == ci || !(is_stale[ci] || is_stale[cj])) return;  // same cluster, or still listed
       if (queried[cj] && j < i) return;                           // found from j's side

@@ -10,7 +10,9 @@
 // While two clusters have both travelled at most skin / 2, every pair of theirs that
 // overlaps now is in the list. A cluster that travelled more is *stale*: its pairs are
 // listed again from the cell list of the step, by queries around its spheres or, when one
-// stale cluster holds most of the box, around the spheres outside it. Late in a run, when
+// stale cluster holds most of the box, around the spheres outside it (those queries may use
+// a cell list binned at an earlier step, looking wider by how far its spheres may have
+// moved since). Late in a run, when
 // a few large, slow clusters hold most spheres, a step then costs the few fast clusters'
 // spheres and the listed pairs, instead of every sphere of the box; and when the giant
 // drifts beyond the skin, the spheres outside it. The pairs found are exactly those a
@@ -21,16 +23,30 @@
 
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/time_stepping/adhesive_set.hpp"
+#include "ballagg/spatial/movable_cell_list.hpp"
 #include "ballagg/spatial/sorted_cell_list.hpp"
 
 namespace ballagg {
+
+// The cell lists NearPairs::contacts() may ask for; each first fills every entry of the
+// positions it was given.
+template <int D>
+struct NearPairCells {
+  // Every sphere binned afresh at its position (for a scan of the whole box).
+  std::function<const SortedCellList<D>&()> rebuilt;
+  // A cell list in which every sphere is within `slack` of where it is binned (for the
+  // queries of a partial refresh, which look that much wider).
+  std::function<const MovableCellList<D>&()> current;
+  double slack = 0.0;
+};
 
 template <int D>
 class NearPairs {
  public:
   NearPairs() = default;
   // `skin` must not exceed the cell size of the cell lists passed to contacts() minus the
-  // largest contact distance: pairs closer than sigma + skin are then in neighbouring cells.
+  // largest contact distance: pairs closer than sigma + skin are then in neighbouring cells
+  // of a list rebuilt at the positions.
   NearPairs(int n_cluster_ids, double skin);
 
   // Cluster c moved by a displacement of this length (free flight, a wall).
@@ -44,12 +60,12 @@ class NearPairs {
 
   // Lists the pairs of the stale clusters again, with the spheres at `positions`, and
   // returns every pair of spheres of different clusters that overlaps or touches
-  // (d <= R_i + R_j), sorted by (i, j). `cells()` returns the cell list of `positions`,
-  // every entry of it filled; it is called only when some cluster is stale. Otherwise
-  // only the spheres of the listed pairs are read, and `need(spheres)` is called first
-  // with them (the caller fills their entries of `positions` then).
+  // (d <= R_i + R_j), sorted by (i, j). A cell list of `cells` is asked for only when some
+  // cluster is stale. Otherwise only the spheres of the listed pairs are read, and
+  // `need(spheres)` is called first with them (the caller fills their entries of
+  // `positions` then).
   std::vector<SpherePair> contacts(const State<D>& s, const std::vector<Vec<D>>& positions,
-                                   const std::function<const SortedCellList<D>&()>& cells,
+                                   const NearPairCells<D>& cells,
                                    const std::function<void(const std::vector<std::int32_t>&)>& need);
 
   // Whether sphere i is in a pair of the list as the last contacts() left it. Until a
@@ -73,7 +89,7 @@ class NearPairs {
   };
   bool stale(int c) const { return !(travel_[c] <= 0.5 * skin_); }
   void scan_all(const State<D>& s, const SortedCellList<D>& cells);
-  void refresh(const State<D>& s, const SortedCellList<D>& cells, const std::vector<Vec<D>>& positions,
+  void refresh(const State<D>& s, const MovableCellList<D>& cells, double slack, const std::vector<Vec<D>>& positions,
                const std::vector<char>& is_stale, const std::vector<char>& queried,
                const std::vector<int>& query_spheres);
 

@@ -33,9 +33,17 @@ constexpr double kGridMargin = 1.0;
 // through a wall back inside, and resolve the overlaps this creates.
 constexpr int kFinalWallSteps = 8;
 
-// The cell list is rebuilt within a step once more than 1 / kMovedFractionForRebuild of
-// the spheres have been moved in it one by one (each move leaves a skipped slot behind).
+// The cell list is rebuilt once more than 1 / kMovedFractionForRebuild of the spheres
+// have been moved in it one by one (each move leaves a skipped slot behind).
 constexpr std::size_t kMovedFractionForRebuild = 8;
+
+// The cell list is kept from one step to the next: at a step's first use, the spheres of a
+// cluster that has drifted more than kBinnedDrift of the cell slack since it was binned
+// are binned again (moved in it); the others keep the rest of the slack for the
+// minimisations of the step. Late in a run of 10^6 a step meets a few fast fragments and
+// a giant that drifts a diameter in tens of steps, and rebuilding the list at every step
+// that met something was half of that phase (docs/performance.md, session 13).
+constexpr double kBinnedDrift = 0.5;
 
 // Lists of sphere ids longer than (number of spheres) / kIdsPerBitmapWord are sorted
 // through a bitmap (sort_unique_ids): reading it back costs one word per 64 spheres.
@@ -107,7 +115,7 @@ class TimeSteppingEngine final : public Engine<D> {
   void materialise_positions();
   void materialise_positions(const std::vector<std::int32_t>& spheres);
   void rebin();
-  const MovableCellList<D>& binned_cells();
+  const MovableCellList<D>& binned_cells(const State<D>& s);
   void detect_overlaps(const State<D>& s);
   void resolve(const State<D>& s);
   GroupSolution<D> repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
@@ -143,12 +151,15 @@ class TimeSteppingEngine final : public Engine<D> {
   std::vector<Vec<D>> positions_;            // sphere centres at the current time, in the box
   const State<D>* positions_of_ = nullptr;   // set: positions_ not yet computed for this step's time
   std::vector<Vec<D>> step_shift_;           // per sphere: its displacement by this step's minimisations
-  std::vector<Vec<D>> moved_since_binning_;  // per sphere, for the staleness of the cell list
+  std::vector<Vec<D>> moved_since_binning_;  // per sphere: this step's moves since it was binned
+  std::vector<double> binned_drift_;         // per cluster id: bound on its spheres' moves since binned, before this step's minimisations
+  std::vector<double> committed_moves_;      // per cluster id, within commit(): largest move of a sphere since binned
   std::vector<char> rebin_sphere_;           // per sphere, within apply(): moved beyond the cell slack
   std::vector<Vec<D>> flight_;               // per cluster: its displacement by this step's free flight
   std::optional<MovableCellList<D>> cells_;
   double cell_slack_ = 0.0;                  // how far a sphere may move before it is re-binned
-  bool cells_binned_ = false;                // the cell list holds this step's positions
+  bool cells_built_ = false;                 // the cell list has been built since prepare()
+  bool cells_binned_ = false;                // every sphere is within the cell slack of where it is binned
   AdhesiveSet S_;                            // the adhesive set of a round and its groups (of bodies)
   StepBodies bodies_;                        // the clusters of the step, joined by its links
   AdhesiveLinks links_;                      // per-sphere models: the links of the old clusters
@@ -251,6 +262,9 @@ void TimeSteppingEngine<D>::prepare(const State<D>& s) {
   step_shift_.assign(n, Vec<D>::Zero());
   moved_since_binning_.assign(n, Vec<D>::Zero());
   rebin_sphere_.assign(n, 0);
+  binned_drift_.assign(n_cluster_ids, 0.0);
+  committed_moves_.assign(n_cluster_ids, 0.0);
+  cells_built_ = false;
   last_pass_.assign(n, -1);
   pass_ = 0;
   forget_at_ = kSightingsKept;
@@ -315,6 +329,7 @@ void TimeSteppingEngine<D>::advect(State<D>& s, double dt) {
     if (!s.box.periodic() && keep_inside_walls(s, c, s.time)) ++counters_.wall_bounces;
     flight_[c] = s.origin(c, s.time) - start;
     near_.travelled(c, flight_[c].norm());
+    binned_drift_[c] += flight_[c].norm();
   }
 }
 
@@ -346,25 +361,55 @@ void TimeSteppingEngine<D>::materialise_positions(const std::vector<std::int32_t
   for (std::int32_t i : spheres) positions_[i] = positions_of_->position(i, positions_of_->time);
 }
 
+// The cell list at the step's first use: the spheres of the clusters that drifted more than
+// kBinnedDrift of the slack since binned are binned again, or, when they are many, every
+// sphere (rebin).
 template <int D>
-const MovableCellList<D>& TimeSteppingEngine<D>::binned_cells() {
-  if (!cells_binned_) rebin();
+const MovableCellList<D>& TimeSteppingEngine<D>::binned_cells(const State<D>& s) {
+  if (cells_binned_) return *cells_;
+  materialise_positions();
+  std::vector<int> drifted;
+  std::size_t to_move = cells_->n_moved();
+  if (cells_built_)
+    for (int c : s.alive_clusters())
+      if (binned_drift_[c] > kBinnedDrift * cell_slack_) {
+        drifted.push_back(c);
+        to_move += static_cast<std::size_t>(s.clusters[c].size());
+      }
+  if (!cells_built_ || to_move * kMovedFractionForRebuild > positions_.size()) {
+    rebin();
+    return *cells_;
+  }
+  for (int c : drifted) {
+    for (int i : s.clusters[c].members) cells_->move(i, positions_[i]);
+    binned_drift_[c] = 0.0;
+  }
+  cells_binned_ = true;
   return *cells_;
 }
 
+// Bins every sphere at its position now.
 template <int D>
 void TimeSteppingEngine<D>::rebin() {
   materialise_positions();
   cells_->build(positions_);
-  cells_binned_ = true;
+  cells_built_ = cells_binned_ = true;
   std::fill(moved_since_binning_.begin(), moved_since_binning_.end(), Vec<D>::Zero());
+  std::fill(binned_drift_.begin(), binned_drift_.end(), 0.0);
 }
 
 // Step 2a: S starts as the pairs of spheres of different clusters that overlap or touch
 // (phi >= 0) after the free flight, found among the near pairs (near_pairs.hpp).
 template <int D>
 void TimeSteppingEngine<D>::detect_overlaps(const State<D>& s) {
-  const auto cells = [this]() -> const SortedCellList<D>& { return binned_cells().sorted(); };
+  // A scan of the whole box reads the list in slot order: it is built afresh. A partial
+  // refresh is made before the step's minimisations, when every sphere is within
+  // kBinnedDrift of the cell slack of where it is binned.
+  const NearPairCells<D> cells{[&]() -> const SortedCellList<D>& {
+                                 rebin();
+                                 return cells_->sorted();
+                               },
+                               [&]() -> const MovableCellList<D>& { return binned_cells(s); }, kBinnedDrift * cell_slack_};
   const auto need = [this](const std::vector<std::int32_t>& spheres) { materialise_positions(spheres); };
   for (const SpherePair& p : near_.contacts(s, positions_, cells, need))
     S_.add(p.i, p.j, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
@@ -380,7 +425,7 @@ void TimeSteppingEngine<D>::detect_overlaps(const State<D>& s) {
 template <int D>
 void TimeSteppingEngine<D>::resolve(const State<D>& s) {
   if (S_.empty()) return;
-  binned_cells();
+  binned_cells(s);
   std::vector<int> moved;
   std::vector<std::uint64_t> earlier_rounds;  // their signatures
   for (int round = 1;; ++round) {
@@ -533,7 +578,7 @@ void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const Gro
       last_pass_[i] = pass_;
       if (near_.travel(s.spheres.cluster[i]) + step_shift_[i].norm() > half_skin) beyond_skin = true;
       moved_since_binning_[i] += g.shift[m];
-      rebin_sphere_[i] = moved_since_binning_[i].norm() > cell_slack_;
+      rebin_sphere_[i] = binned_drift_[s.spheres.cluster[i]] + moved_since_binning_[i].norm() > cell_slack_;
     }
   }
   if (beyond_skin) near_list_complete_ = false;
@@ -778,6 +823,19 @@ std::vector<SpherePair> TimeSteppingEngine<D>::new_overlaps(const State<D>& s, s
 template <int D>
 int TimeSteppingEngine<D>::commit(State<D>& s) {
   sort_unique_ids(moved_in_step_, s.n_spheres());
+  // The step's moves since binning join each cluster's drift (its spheres' largest; a
+  // cluster may be listed more than once while its largest is zero, which adds nothing).
+  std::vector<std::int32_t> moved_clusters;
+  for (int i : moved_in_step_) {
+    const int c = s.spheres.cluster[i];
+    if (committed_moves_[c] == 0.0) moved_clusters.push_back(c);
+    committed_moves_[c] = std::max(committed_moves_[c], moved_since_binning_[i].norm());
+    moved_since_binning_[i].setZero();
+  }
+  for (std::int32_t c : moved_clusters) {
+    binned_drift_[c] += committed_moves_[c];
+    committed_moves_[c] = 0.0;
+  }
   for (std::size_t k = 0; k < moved_in_step_.size(); ++k) {
     const int i = moved_in_step_[k];
     const int c = s.spheres.cluster[i];
@@ -802,7 +860,9 @@ int TimeSteppingEngine<D>::commit(State<D>& s) {
     const int ci = s.spheres.cluster[p.i], cj = s.spheres.cluster[p.j];
     if (ci == cj) continue;
     ++counters_.collisions;
-    near_.merged(ci, cj, s.merge(p.i, p.j, s.time));
+    const int into = s.merge(p.i, p.j, s.time);
+    near_.merged(ci, cj, into);
+    binned_drift_[into] = std::max(binned_drift_[ci], binned_drift_[cj]);
     ++merges;
   }
   counters_.merges += merges;
