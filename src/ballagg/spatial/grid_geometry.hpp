@@ -60,31 +60,13 @@ class GridGeometry {
     }
   }
 
-  // Calls f(cell index) for each distinct cell that holds points within `radius` of p.
+  // Calls f(cell index) for each distinct cell that may hold points within `radius` of p:
+  // the capsule of a segment of length zero (the cells of the ball's bounding box whose
+  // centre is near enough, without allocating; the guards of every minimisation problem
+  // are searched so, around each sphere of its queried clusters).
   template <class F>
   void for_each_cell_within(const Vec<D>& p, double radius, F&& f) const {
-    const int reach = static_cast<int>(std::ceil(radius / cell_size_));
-    std::array<std::vector<int>, D> coords;
-    for (int a = 0; a < D; ++a) {
-      const int c = coordinate(p[a]);
-      if (2 * reach + 1 >= per_side_) {
-        for (int x = 0; x < per_side_; ++x) coords[a].push_back(x);
-        continue;
-      }
-      for (int x = c - reach; x <= c + reach; ++x) {
-        if (box_.periodic()) coords[a].push_back((x + per_side_) % per_side_);
-        else if (x >= 0 && x < per_side_) coords[a].push_back(x);
-      }
-    }
-    std::array<std::size_t, D> k{};
-    while (true) {
-      std::int64_t cell = 0;
-      for (int a = D - 1; a >= 0; --a) cell = cell * per_side_ + coords[a][k[a]];
-      f(cell);
-      int a = 0;
-      while (a < D && ++k[a] == coords[a].size()) k[a++] = 0;
-      if (a == D) break;
-    }
+    for_each_cell_near_segment(p, Vec<D>::Zero(), radius, f);
   }
 
   // Calls f(cell index) for each distinct cell that may hold points within `radius` of the
