@@ -9,14 +9,13 @@
 // it has travelled since its pairs were listed (an upper bound for each of its spheres).
 // While two clusters have both travelled at most skin / 2, every pair of theirs that
 // overlaps now is in the list. A cluster that travelled more is *stale*: its pairs are
-// listed again from the cell list of the step, by queries around its spheres or, when one
-// stale cluster holds most of the box, around the spheres outside it (those queries may use
-// a cell list binned at an earlier step, looking wider by how far its spheres may have
-// moved since). Late in a run, when
-// a few large, slow clusters hold most spheres, a step then costs the few fast clusters'
-// spheres and the listed pairs, instead of every sphere of the box; and when the giant
-// drifts beyond the skin, the spheres outside it. The pairs found are exactly those a
-// scan of the whole box finds.
+// listed again from a cell list, by queries around its spheres or, when one stale cluster
+// holds most of the box, around the spheres outside it (the cell list may have binned the
+// spheres at an earlier step: the queries look wider by how far they may have moved
+// since). Late in a run, when a few large, slow clusters hold most spheres, a step then
+// costs the few fast clusters' spheres and the listed pairs, instead of every sphere of
+// the box; and when the giant drifts beyond the skin, the spheres outside it. The pairs
+// found are exactly those a scan of the whole box finds.
 #include <cstdint>
 #include <functional>
 #include <vector>
