@@ -41,8 +41,8 @@ constexpr std::size_t kMovedFractionForRebuild = 8;
 // cluster that has drifted more than kBinnedDrift of the cell slack since it was binned
 // are binned again (moved in it); the others keep the rest of the slack for the
 // minimisations of the step. Late in a run of 10^6 a step meets a few fast fragments and
-// a giant that drifts a diameter in tens of steps, and rebuilding the list at every step
-// that met something was half of that phase. Seed 2 of that run: 439 rebuilds with none
+// a slowly drifting giant, and rebuilding the list at every step that met something was
+// half of that phase. Seed 2 of that run: 439 rebuilds with none
 // kept, 193 with 0.5, 148 with 0.75 (docs/performance.md, session 13).
 constexpr double kBinnedDrift = 0.75;
 
