@@ -824,23 +824,16 @@ std::vector<SpherePair> TimeSteppingEngine<D>::new_overlaps(const State<D>& s, s
 template <int D>
 int TimeSteppingEngine<D>::commit(State<D>& s) {
   sort_unique_ids(moved_in_step_, s.n_spheres());
-  // The step's moves since binning join each cluster's drift (its spheres' largest; a
+  // The step's moves since binning join each cluster's drift, its spheres' largest (a
   // cluster may be listed more than once while its largest is zero, which adds nothing).
   std::vector<std::int32_t> moved_clusters;
-  for (int i : moved_in_step_) {
-    const int c = s.spheres.cluster[i];
-    if (committed_moves_[c] == 0.0) moved_clusters.push_back(c);
-    committed_moves_[c] = std::max(committed_moves_[c], moved_since_binning_[i].norm());
-    moved_since_binning_[i].setZero();
-  }
-  for (std::int32_t c : moved_clusters) {
-    binned_drift_[c] += committed_moves_[c];
-    committed_moves_[c] = 0.0;
-  }
   for (std::size_t k = 0; k < moved_in_step_.size(); ++k) {
     const int i = moved_in_step_[k];
     const int c = s.spheres.cluster[i];
     near_.shifted(c, step_shift_[i].norm());
+    if (committed_moves_[c] == 0.0) moved_clusters.push_back(c);
+    committed_moves_[c] = std::max(committed_moves_[c], moved_since_binning_[i].norm());
+    moved_since_binning_[i].setZero();
     if (rigid()) {
       // Every sphere of a cluster has the same shift: one translation.
       if (s.clusters[c].members.front() == i) s.translate(c, step_shift_[i], s.time);
@@ -855,6 +848,10 @@ int TimeSteppingEngine<D>::commit(State<D>& s) {
     for (int c : clusters) s.refresh_extent(c);
   }
   near_.flush_shifts();
+  for (std::int32_t c : moved_clusters) {
+    binned_drift_[c] += committed_moves_[c];
+    committed_moves_[c] = 0.0;
+  }
   int merges = 0;
   for (const SpherePair& p : bodies_.all_links()) {
     if (!rigid()) links_.add(p.i, p.j, p.lambda);
