@@ -1,5 +1,6 @@
 // The parts of the time-stepping engine on their own: the pair index, the adhesive set and
-// its groups, the bodies of a step, and the minimiser's stopping rules and bonds.
+// its groups, the bodies of a step, the group marks, and the minimiser's stopping rules
+// and bonds.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -14,6 +15,7 @@
 #include "ballagg/core/pair_index.hpp"
 #include "ballagg/engines/time_stepping/adhesive_set.hpp"
 #include "ballagg/engines/time_stepping/daha.hpp"
+#include "ballagg/engines/time_stepping/group_marks.hpp"
 #include "ballagg/engines/time_stepping/near_pairs.hpp"
 #include "ballagg/engines/time_stepping/repair_waves.hpp"
 #include "ballagg/engines/time_stepping/step_bodies.hpp"
@@ -485,6 +487,32 @@ TEST(AdhesiveSet, GroupsAreTheConnectedBodiesInOrderOfTheirLowestId) {
   EXPECT_FALSE(S.contains(0, 1));
   S.add(0, 1, 5, 6);  // bodies start afresh after clear
   EXPECT_EQ(S.take_changed_groups()[0].bodies, (std::vector<std::int32_t>{5, 6}));
+}
+
+// The marks of one group answer for its spheres alone: those of an earlier group (left in
+// the thread's array) are not read as this one's, and cluster ids beyond any earlier
+// group's grow the array.
+TEST(GroupMarks, GiveTheBodyOfEachSphereOfTheGroupAndNothingForTheOthers) {
+  const std::vector<std::int32_t> cluster_of_sphere{0, 0, 1, 2, 2, 3, 5};
+  {
+    const GroupMarks marks(cluster_of_sphere, 4, {{1, 0}, {3, 1}});
+    const std::vector<int> expected{-1, -1, 0, -1, -1, 1};
+    for (int i = 0; i < 6; ++i) EXPECT_EQ(marks.body_index(i), expected[i]) << "sphere " << i;
+  }
+  {
+    const GroupMarks marks(cluster_of_sphere, 6, {{0, 0}, {2, 0}, {5, 3}});
+    const std::vector<int> expected{0, 0, -1, 0, 0, -1, 3};
+    for (int i = 0; i < 7; ++i) EXPECT_EQ(marks.body_index(i), expected[i]) << "sphere " << i;
+  }
+}
+
+// One thread, one group at a time: a second set of marks would overwrite the first's.
+TEST(GroupMarks, AThreadCannotHoldTwoAtOnce) {
+  const std::vector<std::int32_t> cluster_of_sphere{0, 1};
+  const GroupMarks first(cluster_of_sphere, 2, {{0, 0}});
+  EXPECT_THROW(GroupMarks(cluster_of_sphere, 2, {{1, 0}}), std::logic_error);
+  EXPECT_EQ(first.body_index(0), 0);
+  EXPECT_EQ(first.body_index(1), -1);
 }
 
 TEST(StepBodies, LinksJoinBodiesAndDissolvingGivesTheLinksBack) {

@@ -22,6 +22,7 @@
 #include "ballagg/engines/time_stepping/adhesive_links.hpp"
 #include "ballagg/engines/time_stepping/adhesive_set.hpp"
 #include "ballagg/engines/time_stepping/daha.hpp"
+#include "ballagg/engines/time_stepping/group_marks.hpp"
 #include "ballagg/engines/time_stepping/step_bodies.hpp"
 #include "ballagg/spatial/movable_cell_list.hpp"
 
@@ -116,6 +117,7 @@ void for_each_neighbour_of_group(const ProblemContext<D>& ctx, const CollisionGr
                                  F&& f) {
   const State<D>& s = ctx.state;
   const QueriedClusters<D> queried(ctx, g, max_size);
+  const GroupMarks marks(s.spheres.cluster, s.clusters.size(), queried.clusters);
   for (const auto& cluster_and_body : queried.clusters) {
     const int c = cluster_and_body.first;  // not a structured binding: clang 14 cannot capture one in a lambda
     if (!queried(c)) continue;
@@ -123,7 +125,7 @@ void for_each_neighbour_of_group(const ProblemContext<D>& ctx, const CollisionGr
       auto visit = [&](int j) {
         const int cj = s.spheres.cluster[j];
         if (cj == c) return;
-        const int bj = body_index(ctx, g, j);
+        const int bj = marks.body_index(j);
         if (bj >= 0 && queried(cj) && j < i) return;
         f(i, j, bj);
       };

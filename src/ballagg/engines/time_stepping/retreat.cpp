@@ -70,17 +70,21 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
     const Vec<D> base = s.box.separation(ctx.positions[i] - ctx.step_shift[i],
                                          member ? Vec<D>(ctx.positions[j] - ctx.step_shift[j]) : ctx.positions[j]);
     const Vec<D> drift = member ? Vec<D>(ctx.flight[ci] - ctx.flight[cj]) : ctx.flight[ci];
+    // Kept only if it can touch (within eps_c) at some theta in [0, 1]; the searches look
+    // wider, and keeping every pair they meet took 288 MB in one retreat at N = 10^5 (3D).
+    // A pair that stays farther apart than that all along the segment (most of the pairs
+    // the searches meet) is not too close at any theta in [0, 1] either (too_near < reach):
+    // its interval, if any, lies beyond theta = 1 and changes neither the theta that
+    // first_free finds in [0, 1] nor whether there is one. So it is dropped at once.
+    const double reach = sigma * (1.0 + kCandidateReach * eps_c);
+    if (squared_distance_to_segment<D>(Vec<D>::Zero(), base, -drift) > reach * reach) return;
     double too_near = sigma * (1.0 - tolerance);
     // A pair of the group that overlaps at theta = 1 (by up to eps_c, left by the last
     // step) is held to that, never made worse.
     if (member) too_near = std::min(too_near, (base - drift).norm());
     const auto interval = too_close<D>(base, drift, too_near);
     if (interval.first < interval.second && interval.second > 0.0) out.bad.push_back(interval);
-    // Kept only if it can touch (within eps_c) at some theta in [0, 1]; the searches look
-    // wider, and keeping every pair they meet took 288 MB in one retreat at N = 10^5 (3D).
-    const double reach = sigma * (1.0 + kCandidateReach * eps_c);
-    if (squared_distance_to_segment<D>(Vec<D>::Zero(), base, -drift) <= reach * reach)
-      out.candidates.push_back({{std::min(i, j), std::max(i, j), 0.0}, base, drift, sigma});
+    out.candidates.push_back({{std::min(i, j), std::max(i, j), 0.0}, base, drift, sigma});
   };
   // Only the pairs that the retreat can bring within contact distance are looked at. A
   // sphere i moves back along its cluster's flight, a segment: a sphere outside the group
@@ -90,6 +94,7 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
   // the pairs left touching, eps_c, and for the cell list's slack), and o's spheres
   // listed directly when o is small, none at all when o's bounding sphere stays away.
   const QueriedClusters<D> queried(ctx, g, std::numeric_limits<int>::max());
+  const GroupMarks marks(s.spheres.cluster, s.clusters.size(), queried.clusters);
   const double contact_reach = 2.0 * s.max_radius() * (1.0 + ctx.settings.daha.eps_c);
   const std::vector<RetreatStart<D>> starts = retreat_starts(ctx, clusters);
   // The clusters of the group that cluster k can meet: their bounding spheres come within
@@ -119,8 +124,9 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
       const Vec<D> relative_flight = ctx.flight[c] - ctx.flight[other];
       const Vec<D> to_centre = s.box.separation(start, starts[m].centre);
       if (distance_to_segment<D>(to_centre, -relative_flight) > starts[m].radius + contact_reach) continue;
+      const bool other_queried = queried(other);  // then a pair is taken from its lower sphere id's side
       auto member = [&](int j) {
-        if (!(queried(other) && j < i)) consider(out, i, j, other_body);
+        if (!(other_queried && j < i)) consider(out, i, j, other_body);
       };
       if (s.clusters[other].size() <= kListedClusterSize) {
         for (int j : s.clusters[other].members) member(j);
@@ -135,7 +141,7 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
                                       in_other);
     }
     auto outside = [&](int j) {
-      if (s.spheres.cluster[j] != c && body_index(ctx, g, j) < 0) consider(out, i, j, -1);
+      if (s.spheres.cluster[j] != c && marks.body_index(j) < 0) consider(out, i, j, -1);
     };
     ctx.cells.for_each_near_segment(start, Vec<D>(-ctx.flight[c]), contact_reach + ctx.cell_slack, outside);
   };
