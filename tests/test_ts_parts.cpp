@@ -154,7 +154,7 @@ TEST(NearPairs, APartialRefreshLooksAsFarAsTheCellListsSlack) {
   balls[0].x = Vec<2>(3.01, 5.25);   // A
   balls[1].x = Vec<2>(1.515, 5.25);  // B
   for (double x : {7.5, 8.7, 9.9, 11.1})  // far away: enough spheres for cells 1.5 wide
-    for (int k = 0; k < 10; ++k) balls.push_back({Vec<2>(x, 0.6 + 1.2 * k)});
+    for (int k = 0; k < 10; ++k) balls.push_back({Vec<2>(x, 0.6 + 1.2 * k), Vec<2>::Zero()});
   for (auto& b : balls) {
     b.v.setZero();
     b.radius = 0.5;
