@@ -13,6 +13,7 @@
 //
 // Other threads may read the marks while their maker waits for them (the retreat shares
 // its searches among threads); a thread holds one GroupMarks at a time.
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <stdexcept>
@@ -31,7 +32,11 @@ class GroupMarks {
     if (held()) throw std::logic_error("GroupMarks: a thread holds two at once");
     held() = true;
     if (marks_.size() < n_cluster_ids) marks_.resize(n_cluster_ids, 0);
-    stamp_ = ++thread_stamp() << 32;
+    if (++thread_stamp() == kStampsPerClear) {  // after 2^32 - 1 groups: old marks could match again
+      std::fill(marks_.begin(), marks_.end(), 0);
+      thread_stamp() = 1;
+    }
+    stamp_ = thread_stamp() << 32;
     for (const auto& [c, b] : clusters) marks_[c] = stamp_ | static_cast<std::uint32_t>(b);
   }
   GroupMarks(const GroupMarks&) = delete;
@@ -45,7 +50,8 @@ class GroupMarks {
   }
 
  private:
-  static constexpr std::uint64_t kStampBits = ~std::uint64_t{0xffffffff};
+  static constexpr std::uint64_t kStampBits = ~std::uint64_t{0xffffffff};  // the high half of a mark
+  static constexpr std::uint64_t kStampsPerClear = std::uint64_t{1} << 32;
   static std::vector<std::uint64_t>& thread_marks() {
     thread_local std::vector<std::uint64_t> marks;
     return marks;
