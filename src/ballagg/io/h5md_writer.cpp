@@ -180,6 +180,7 @@ struct H5mdWriter<D>::Impl {
     temporary = temporary_path_for(path);
     n = p.size();
     periodic = p.box.periodic();
+    reclaim_completed_file(path);  // killed between completing the trajectory and finishing
     std::error_code ec;
     if (!std::filesystem::exists(temporary, ec))
       throw InputError(fmt::format("{}: the trajectory of the checkpointed run is missing (cannot resume it)",

@@ -61,6 +61,13 @@ void rename_into_place(const std::string& temporary, const std::string& path) {
   }
 }
 
+void reclaim_completed_file(const std::string& path) {
+  const std::string temporary = temporary_path_for(path);
+  std::error_code ec;
+  if (fs::exists(temporary, ec) || !fs::exists(path, ec)) return;
+  fs::rename(path, temporary, ec);
+}
+
 void write_file_atomically(const std::string& dir, const std::string& name, const std::string& content) {
   AtomicFile file((fs::path(dir) / name).string());
   file.write(content);

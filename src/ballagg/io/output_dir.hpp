@@ -20,6 +20,14 @@ std::string temporary_path_for(const std::string& path);
 // cairo). On failure removes `temporary` and throws OutputError naming `path`.
 void rename_into_place(const std::string& temporary, const std::string& path);
 
+// Gives a checkpointed run back the temporary file of `path` if the run completed `path`
+// (renamed it into place) and was killed before it finished (wrote summary.json and
+// removed its checkpoint): the completed file holds every record the checkpoint saw and
+// later ones, so the resumed run can cut it back and continue it as if it had been killed
+// a moment earlier. Does nothing if the temporary file exists or `path` does not; a
+// failed rename leaves the temporary missing, which the caller reports.
+void reclaim_completed_file(const std::string& path);
+
 // Writes `content` to dir/name atomically (AtomicFile). Throws OutputError on failure.
 void write_file_atomically(const std::string& dir, const std::string& name, const std::string& content);
 

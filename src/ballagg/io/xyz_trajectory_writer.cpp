@@ -13,9 +13,11 @@ namespace fs = std::filesystem;
 namespace ballagg {
 namespace {
 
-// The temporary file of a checkpointed run, checked to hold the `mark` bytes the
-// checkpoint saw. Throws InputError.
+// The temporary file of a checkpointed run (taken back from `path` if the run was killed
+// after completing it), checked to hold the `mark` bytes the checkpoint saw. Throws
+// InputError.
 std::uint64_t checked_mark(const std::string& path, std::uint64_t mark) {
+  reclaim_completed_file(path);
   const std::string temporary = temporary_path_for(path);
   std::error_code ec;
   const std::uintmax_t size = fs::file_size(temporary, ec);
