@@ -92,6 +92,18 @@ TEST(ThreadCount, TimeSteppingRepairsInWavesDoNotDependOnIt) {
     }
 }
 
+// A dense gas to one cluster in long steps, every group sent to the fall-back: late in the
+// run the flight sweeps meet bodies of thousands of spheres, whose searches are shared
+// among the threads (kParallelSearchSpheres = 2048 spheres; 22 such searches in this run),
+// and rounds apply solutions that move more spheres than one piece of apply() (4096; 21
+// such rounds), counted with a print in the engine while writing this test.
+TEST(ThreadCount, TimeSteppingSweepsOfLargeBodiesDoNotDependOnIt) {
+  Config c = run_config(EngineKind::ts, 2, 10000, Boundary::walls, 1, 0.3);
+  c.ts.retreat_pairs = 1;
+  c.ts.dt_factor = 0.05;
+  expect_run_files_independent_of_threads(c);
+}
+
 // One long step (dt_factor 0.05) of a dense gas (Vf 0.3), on enough spheres that every
 // parallel loop of a step runs on threads: positions, the near-pair scan, the contact
 // checks (kParallelLoopMin spheres) and the solution of the collision groups

@@ -67,6 +67,11 @@ constexpr std::int64_t kParallelRepairs = 2;
 // in session 12: a wave of two fall-backs moves hundreds of spheres).
 constexpr std::size_t kParallelApply = 1024;
 
+// apply() shares its work among the threads in pieces of at most this many spheres of one
+// solution: late in a run of 10^6 a round may apply a single solution that moves a giant
+// (10^5 spheres and more), which a loop over whole solutions left on one thread.
+constexpr std::size_t kApplyPiece = 4096;
+
 // Sorts and removes repeats.
 template <class T, class Less = std::less<T>>
 void sort_unique(std::vector<T>& v, Less less = {}) {
@@ -156,6 +161,11 @@ class TimeSteppingEngine final : public Engine<D> {
   std::vector<double> binned_drift_;         // per cluster id: bound on its spheres' moves since binned, before this step's minimisations
   std::vector<double> committed_moves_;      // per cluster id, within commit(): largest move of a sphere since binned
   std::vector<char> rebin_sphere_;           // per sphere, within apply(): moved beyond the cell slack
+  struct ApplyPiece {
+    const GroupSolution<D>* solution;
+    std::size_t begin, end;  // its spheres [begin, end)
+  };
+  std::vector<ApplyPiece> apply_pieces_;     // within apply(): the work shared among the threads
   std::vector<Vec<D>> flight_;               // per cluster: its displacement by this step's free flight
   std::optional<MovableCellList<D>> cells_;
   double cell_slack_ = 0.0;                  // how far a sphere may move before it is re-binned
@@ -549,8 +559,9 @@ std::uint64_t TimeSteppingEngine<D>::round_signature() const {
 }
 
 // Moves the spheres of these solutions in positions_ (the state is moved at commit). The
-// solutions move disjoint spheres: on several threads when they are many (early in a run
-// of 10^6 a round applies 10^5 solutions); the cell list is then updated in solution order.
+// solutions move disjoint spheres: on several threads, in pieces of kApplyPiece spheres,
+// when they are many (early in a run of 10^6 a round applies 10^5 solutions, late in it one
+// solution may move a giant); the cell list is then updated in solution order.
 template <int D>
 void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const GroupSolution<D>*>& solutions,
                                   std::vector<int>& moved) {
@@ -565,14 +576,19 @@ void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const Gro
   }
   const Box<D>& box = *box_;
   const double half_skin = 0.5 * near_.skin();
+  apply_pieces_.clear();
+  for (const GroupSolution<D>* g : solutions)
+    for (std::size_t begin = 0; begin < g->spheres.size(); begin += kApplyPiece)
+      apply_pieces_.push_back({g, begin, std::min(g->spheres.size(), begin + kApplyPiece)});
   bool beyond_skin = false;
-  const std::int64_t n_solutions = static_cast<std::int64_t>(solutions.size());
-  const int chunk = static_cast<int>(std::clamp<std::int64_t>(n_solutions / 64, 1, 64));
+  const std::int64_t n_pieces = static_cast<std::int64_t>(apply_pieces_.size());
+  const int chunk = static_cast<int>(std::clamp<std::int64_t>(n_pieces / 64, 1, 64));
 #pragma omp parallel for schedule(dynamic, chunk) reduction(|| : beyond_skin) \
-    if (n_solutions > 1 && n_moved >= kParallelApply)
-  for (std::int64_t k = 0; k < n_solutions; ++k) {
-    const GroupSolution<D>& g = *solutions[k];
-    for (std::size_t m = 0; m < g.spheres.size(); ++m) {
+    if (n_pieces > 1 && n_moved >= kParallelApply)
+  for (std::int64_t k = 0; k < n_pieces; ++k) {
+    const ApplyPiece& piece = apply_pieces_[k];
+    const GroupSolution<D>& g = *piece.solution;
+    for (std::size_t m = piece.begin; m < piece.end; ++m) {
       const int i = g.spheres[m];
       positions_[i] = box.wrap(positions_[i] + g.shift[m]);
       step_shift_[i] += g.shift[m];
