@@ -465,6 +465,19 @@ TEST(PairIndex, GivesBackATableFarLargerThanItsEntriesWhenCleared) {
   EXPECT_EQ(index.size(), 3000u);
 }
 
+TEST(PairIndex, ReserveMakesRoomOnceAndKeepsWhatItHolds) {
+  PairIndex index;
+  for (int k = 0; k < 500; ++k) index.insert(k, k + 1, k);
+  index.reserve(100000);
+  const std::size_t reserved = index.capacity();
+  EXPECT_GE(reserved, 200000u);
+  for (int k = 0; k < 500; ++k) EXPECT_EQ(index.find(k + 1, k), k);
+  for (int k = 500; k < 100000; ++k) EXPECT_TRUE(index.insert(k, k + 1, k).second);
+  EXPECT_EQ(index.capacity(), reserved);  // no growth while filling what was reserved
+  EXPECT_EQ(index.size(), 100000u);
+  EXPECT_EQ(index.find(99999, 100000), 99999);
+}
+
 TEST(AdhesiveSet, GroupsAreTheConnectedBodiesInOrderOfTheirLowestId) {
   AdhesiveSet S(10);
   S.add(0, 1, 5, 7);

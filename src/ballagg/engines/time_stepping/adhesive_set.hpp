@@ -40,6 +40,11 @@ class AdhesiveSet {
   const std::vector<SpherePair>& pairs() const { return pairs_; }
   SpherePair& pair(std::int32_t k) { return pairs_[k]; }
   bool empty() const { return pairs_.empty(); }
+  // Room for n more pairs.
+  void reserve(std::size_t n) {
+    index_.reserve(pairs_.size() + n);
+    pairs_.reserve(pairs_.size() + n);
+  }
   bool contains(int i, int j) const { return index_.find(i, j) != PairIndex::kAbsent; }
 
   // Adds the pair of spheres (i, j) of bodies ci and cj (one body is allowed: in the

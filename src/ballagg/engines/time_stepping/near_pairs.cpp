@@ -1,6 +1,7 @@
 #include "ballagg/engines/time_stepping/near_pairs.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <limits>
 
 #include "ballagg/core/parallel.hpp"
@@ -15,6 +16,27 @@ constexpr double kFullScanFraction = 0.25;
 template <class Pair>
 bool pair_equal(const Pair& a, const Pair& b) {
   return a.i == b.i && a.j == b.j;
+}
+
+// The pairs found by the threads, sorted and without repeats, in `out`: each thread's
+// list sorted on its own thread, then the lists merged. The same list whatever the number
+// of threads; a sort of the whole list on one thread was a tenth of the serial part of a
+// step early in a run of 10^6.
+template <class Pair>
+void sorted_union(std::vector<std::vector<Pair>>& parts, std::vector<Pair>& out) {
+  const int n_parts = static_cast<int>(parts.size());
+  std::size_t total = 0;
+  for (const auto& part : parts) total += part.size();
+#pragma omp parallel for schedule(static, 1) if (n_parts > 1 && total >= static_cast<std::size_t>(kParallelLoopMin))
+  for (int k = 0; k < n_parts; ++k) std::sort(parts[k].begin(), parts[k].end(), pair_less<Pair>);
+  out.clear();
+  out.reserve(total);
+  for (const auto& part : parts) {
+    const std::size_t middle = out.size();
+    out.insert(out.end(), part.begin(), part.end());
+    std::inplace_merge(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(middle), out.end(), pair_less<Pair>);
+  }
+  out.erase(std::unique(out.begin(), out.end(), pair_equal<Pair>), out.end());
 }
 
 }  // namespace
@@ -96,21 +118,50 @@ std::vector<SpherePair> NearPairs<D>::contacts(const State<D>& s, const std::vec
     for (const Pair& p : pairs_) listed.insert(listed.end(), {p.i, p.j});
     need(listed);
   }
-  // Test the listed pairs; those now inside one cluster (merged) are dropped for good.
-  std::vector<SpherePair> touching;
-  std::size_t kept = 0;
   ++listing_;
   listed_at_.resize(s.n_spheres(), -1);
-  for (const Pair& p : pairs_) {
-    if (s.spheres.cluster[p.i] == s.spheres.cluster[p.j]) continue;
-    pairs_[kept++] = p;
-    listed_at_[p.i] = listed_at_[p.j] = listing_;
-    const double contact = s.spheres.radius[p.i] + s.spheres.radius[p.j];
-    if (s.box.separation(positions[p.i], positions[p.j]).squaredNorm() <= contact * contact)
-      touching.push_back({p.i, p.j, 0.0});
+  return test_listed(s, positions);
+}
+
+// Tests the listed pairs; those now inside one cluster (merged) are dropped for good. In
+// pieces of kTestPiece pairs, on several threads when they are many (early in a run of
+// 10^6 the list holds millions): each piece keeps its pairs at its own start and finds
+// its touching pairs, and the pieces are then joined in order, as one loop would have left
+// them.
+template <int D>
+std::vector<SpherePair> NearPairs<D>::test_listed(const State<D>& s, const std::vector<Vec<D>>& positions) {
+  constexpr std::size_t kTestPiece = 1 << 16;
+  const std::size_t n_pairs = pairs_.size();
+  const std::int64_t n_pieces = static_cast<std::int64_t>((n_pairs + kTestPiece - 1) / kTestPiece);
+  std::vector<std::size_t> kept(n_pieces, 0);
+  std::vector<std::vector<SpherePair>> touching(n_pieces);
+#pragma omp parallel for schedule(dynamic) if (n_pieces > 1)
+  for (std::int64_t piece = 0; piece < n_pieces; ++piece) {
+    const std::size_t begin = static_cast<std::size_t>(piece) * kTestPiece, end = std::min(n_pairs, begin + kTestPiece);
+    std::size_t at = begin;
+    for (std::size_t k = begin; k < end; ++k) {
+      const Pair p = pairs_[k];
+      if (s.spheres.cluster[p.i] == s.spheres.cluster[p.j]) continue;
+      pairs_[at++] = p;
+      // Two pieces may mark one sphere, with the same value.
+      std::atomic_ref<std::int32_t>(listed_at_[p.i]).store(listing_, std::memory_order_relaxed);
+      std::atomic_ref<std::int32_t>(listed_at_[p.j]).store(listing_, std::memory_order_relaxed);
+      const double contact = s.spheres.radius[p.i] + s.spheres.radius[p.j];
+      if (s.box.separation(positions[p.i], positions[p.j]).squaredNorm() <= contact * contact)
+        touching[piece].push_back({p.i, p.j, 0.0});
+    }
+    kept[piece] = at - begin;
   }
-  pairs_.resize(kept);
-  return touching;
+  std::size_t size = 0;
+  for (std::int64_t piece = 0; piece < n_pieces; ++piece) {
+    const auto first = pairs_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(piece) * kTestPiece);
+    std::move(first, first + static_cast<std::ptrdiff_t>(kept[piece]), pairs_.begin() + static_cast<std::ptrdiff_t>(size));
+    size += kept[piece];
+  }
+  pairs_.resize(size);
+  std::vector<SpherePair> out;
+  for (auto& t : touching) out.insert(out.end(), t.begin(), t.end());
+  return out;
 }
 
 template <int D>
@@ -166,10 +217,7 @@ void NearPairs<D>::scan_all(const State<D>& s, const SortedCellList<D>& cells) {
       });
     }
   }
-  pairs_.clear();
-  for (const auto& f : found) pairs_.insert(pairs_.end(), f.begin(), f.end());
-  std::sort(pairs_.begin(), pairs_.end(), pair_less<Pair>);  // whatever the number of threads
-  pairs_.erase(std::unique(pairs_.begin(), pairs_.end(), pair_equal<Pair>), pairs_.end());
+  sorted_union(found, pairs_);  // whatever the number of threads
   std::fill(travel_.begin(), travel_.end(), 0.0);
 }
 
@@ -203,9 +251,7 @@ void NearPairs<D>::refresh(const State<D>& s, const MovableCellList<D>& cells, d
     });
   }
   std::vector<Pair> fresh;
-  for (const auto& f : found) fresh.insert(fresh.end(), f.begin(), f.end());
-  std::sort(fresh.begin(), fresh.end(), pair_less<Pair>);
-  fresh.erase(std::unique(fresh.begin(), fresh.end(), pair_equal<Pair>), fresh.end());  // tiny periodic boxes
+  sorted_union(found, fresh);  // repeats: tiny periodic boxes
   const std::size_t old_size = pairs_.size();
   pairs_.insert(pairs_.end(), fresh.begin(), fresh.end());
   std::inplace_merge(pairs_.begin(), pairs_.begin() + static_cast<std::ptrdiff_t>(old_size), pairs_.end(),

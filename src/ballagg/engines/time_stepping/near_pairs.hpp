@@ -88,6 +88,7 @@ class NearPairs {
   };
   bool stale(int c) const { return !(travel_[c] <= 0.5 * skin_); }
   void scan_all(const State<D>& s, const SortedCellList<D>& cells);
+  std::vector<SpherePair> test_listed(const State<D>& s, const std::vector<Vec<D>>& positions);
   void refresh(const State<D>& s, const MovableCellList<D>& cells, double slack, const std::vector<Vec<D>>& positions,
                const std::vector<char>& is_stale, const std::vector<char>& queried,
                const std::vector<int>& query_spheres);

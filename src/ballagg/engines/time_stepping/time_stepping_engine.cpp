@@ -422,8 +422,9 @@ void TimeSteppingEngine<D>::detect_overlaps(const State<D>& s) {
                                },
                                [&]() -> const MovableCellList<D>& { return binned_cells(s); }, kBinnedDrift * cell_slack_};
   const auto need = [this](const std::vector<std::int32_t>& spheres) { materialise_positions(spheres); };
-  for (const SpherePair& p : near_.contacts(s, positions_, cells, need))
-    S_.add(p.i, p.j, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
+  const std::vector<SpherePair> touching = near_.contacts(s, positions_, cells, need);
+  S_.reserve(touching.size());
+  for (const SpherePair& p : touching) S_.add(p.i, p.j, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
   near_list_complete_ = true;  // every cluster is within skin / 2 of its listing now
 }
 
