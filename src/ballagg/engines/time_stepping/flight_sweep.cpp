@@ -19,7 +19,7 @@ constexpr double kNoContact = std::numeric_limits<double>::infinity();
 // the body's events.
 constexpr std::size_t kParallelSearchSpheres = 2048;
 
-// The spheres of one cluster whose outside search is one task of a parallel search.
+// How many spheres of one cluster make one task of a parallel search's outside searches.
 constexpr std::size_t kOutsideSearchPiece = 256;
 
 // The first t >= 0 at which |B + t V| = sigma while the pair closes in (kNoContact: never).
