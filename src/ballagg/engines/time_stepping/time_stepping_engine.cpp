@@ -136,6 +136,8 @@ class TimeSteppingEngine final : public Engine<D> {
   std::vector<std::int32_t> clusters_overlapping_outside(const State<D>& s, std::vector<int>& spheres,
                                                          const std::vector<std::int32_t>& inside);
   int commit(State<D>& s);
+  void commit_moves(State<D>& s, std::vector<std::int32_t>& moved_clusters);
+  void commit_rigid_moves(State<D>& s, std::vector<std::int32_t>& moved_clusters);
   template <class F>
   void for_each_contact(const State<D>& s, const std::vector<int>& spheres, F&& f) const;
   template <class F>
@@ -835,6 +837,55 @@ std::vector<SpherePair> TimeSteppingEngine<D>::new_overlaps(const State<D>& s, s
   return pairs;
 }
 
+// The per-sphere models: each moved sphere is displaced in its cluster.
+template <int D>
+void TimeSteppingEngine<D>::commit_moves(State<D>& s, std::vector<std::int32_t>& moved_clusters) {
+  for (const int i : moved_in_step_) {
+    const int c = s.spheres.cluster[i];
+    near_.shifted(c, step_shift_[i].norm());
+    if (committed_moves_[c] == 0.0) moved_clusters.push_back(c);
+    committed_moves_[c] = std::max(committed_moves_[c], moved_since_binning_[i].norm());
+    moved_since_binning_[i].setZero();
+    s.displace_sphere(i, step_shift_[i]);
+  }
+  std::vector<std::int32_t> clusters;
+  for (int i : moved_in_step_) clusters.push_back(s.spheres.cluster[i]);
+  sort_unique(clusters);
+  for (int c : clusters) s.refresh_extent(c);
+}
+
+// The rigid model: a solution moves every sphere of a cluster by one shift, so a moved
+// cluster has all its spheres among the moved ones, and one translation moves it. Each is
+// taken once, at its first member, in sphere order (the order of State's stamps); the
+// largest drift of its spheres since they were binned is found on the threads, as is the
+// test for its first member (a scattered read per sphere: with the per-sphere loop on one
+// thread, this was the largest serial part of a step early in a run of 10^6).
+template <int D>
+void TimeSteppingEngine<D>::commit_rigid_moves(State<D>& s, std::vector<std::int32_t>& moved_clusters) {
+  const std::int64_t n = static_cast<std::int64_t>(moved_in_step_.size());
+  std::vector<double> drift(moved_in_step_.size(), -1.0);  // -1: not its cluster's first member
+#pragma omp parallel for schedule(static) if (n >= kParallelLoopMin)
+  for (std::int64_t k = 0; k < n; ++k) {
+    const int i = moved_in_step_[k];
+    const std::vector<int>& members = s.clusters[s.spheres.cluster[i]].members;
+    if (members.front() != i) continue;
+    double largest = 0.0;
+    for (const int j : members) largest = std::max(largest, moved_since_binning_[j].norm());
+    drift[k] = largest;
+  }
+#pragma omp parallel for schedule(static) if (n >= kParallelLoopMin)
+  for (std::int64_t k = 0; k < n; ++k) moved_since_binning_[moved_in_step_[k]].setZero();
+  for (std::int64_t k = 0; k < n; ++k) {
+    if (drift[k] < 0.0) continue;
+    const int i = moved_in_step_[k];
+    const int c = s.spheres.cluster[i];
+    near_.shifted(c, step_shift_[i].norm());
+    if (committed_moves_[c] == 0.0) moved_clusters.push_back(c);
+    committed_moves_[c] = std::max(committed_moves_[c], drift[k]);
+    s.translate(c, step_shift_[i], s.time);
+  }
+}
+
 // Step 3: the state's clusters are moved to their minimised positions, and the links of
 // the step merge them, pair by pair, with the mass-weighted velocity of rule (2.9).
 // Returns the merges.
@@ -844,26 +895,8 @@ int TimeSteppingEngine<D>::commit(State<D>& s) {
   // The step's moves since binning join each cluster's drift, its spheres' largest (a
   // cluster may be listed more than once while its largest is zero, which adds nothing).
   std::vector<std::int32_t> moved_clusters;
-  for (std::size_t k = 0; k < moved_in_step_.size(); ++k) {
-    const int i = moved_in_step_[k];
-    const int c = s.spheres.cluster[i];
-    near_.shifted(c, step_shift_[i].norm());
-    if (committed_moves_[c] == 0.0) moved_clusters.push_back(c);
-    committed_moves_[c] = std::max(committed_moves_[c], moved_since_binning_[i].norm());
-    moved_since_binning_[i].setZero();
-    if (rigid()) {
-      // Every sphere of a cluster has the same shift: one translation.
-      if (s.clusters[c].members.front() == i) s.translate(c, step_shift_[i], s.time);
-    } else {
-      s.displace_sphere(i, step_shift_[i]);
-    }
-  }
-  if (!rigid()) {
-    std::vector<std::int32_t> clusters;
-    for (int i : moved_in_step_) clusters.push_back(s.spheres.cluster[i]);
-    sort_unique(clusters);
-    for (int c : clusters) s.refresh_extent(c);
-  }
+  if (rigid()) commit_rigid_moves(s, moved_clusters);
+  else commit_moves(s, moved_clusters);
   near_.flush_shifts();
   for (std::int32_t c : moved_clusters) {
     binned_drift_[c] += committed_moves_[c];
