@@ -108,7 +108,8 @@ class FlightSweep {
   void search_outside(int k, std::size_t begin, std::size_t end, double tau, std::vector<Event>& found) const;
   void search_walls(int body, double tau);
   void search(int body, double tau);
-  void search_in_parallel(int body, double tau);
+  void run_task(const SearchTask& task, double tau, std::vector<Event>& found) const;
+  void run_tasks_in_parallel(double tau);
   std::size_t searched_spheres(int body) const;
   void push_found();
   void set_velocity(int body, const Vec<D>& v, double tau);
@@ -130,7 +131,7 @@ class FlightSweep {
   std::vector<char> frozen_;            // per root: stopped against a sphere outside or a wall
   std::priority_queue<Event, std::vector<Event>, std::greater<Event>> events_;
   std::vector<Event> found_;             // events found by the search under way
-  std::vector<SearchTask> tasks_;        // the tasks of a parallel search
+  std::vector<SearchTask> tasks_;        // the tasks of the search under way
   std::vector<SpherePair> contacts_;
 };
 
@@ -156,11 +157,11 @@ bool FlightSweep<D>::can_meet(int k, int m, double tau) const {
   return distance_to_segment<D>(between, relative) <= starts_[k].radius + starts_[m].radius + contact_reach_;
 }
 
-// The pairs of clusters k and m of the group that can touch after tau, searched from the
-// side of a queried cluster (not the group's giant: its pairs are found from the others').
+// The pairs of clusters k and m of the group that can touch after tau (their bounding
+// spheres can: can_meet), searched from the side of a queried cluster (not the group's
+// giant: its pairs are found from the others').
 template <int D>
 void FlightSweep<D>::search_clusters(int k, int m, double tau, std::vector<Event>& found) const {
-  if (!can_meet(k, m, tau)) return;
   if (!queried_(clusters_[k].first)) std::swap(k, m);
   const int other = clusters_[m].first;
   const Vec<D> relative = (1.0 - tau) * (v_[k] - v_[m]);
@@ -182,12 +183,12 @@ void FlightSweep<D>::search_clusters(int k, int m, double tau, std::vector<Event
   }
 }
 
-// The spheres outside the group that spheres [begin, end) of cluster k can touch after tau
-// (not for the group's giant, as in the retreat: what it meets is found by the next round).
+// The spheres outside the group that spheres [begin, end) of cluster k can touch after tau.
+// For a queried cluster that moves (search() makes no such task for a still one, nor for
+// the group's giant, as in the retreat: what the giant meets is found by the next round).
 template <int D>
 void FlightSweep<D>::search_outside(int k, std::size_t begin, std::size_t end, double tau,
                                     std::vector<Event>& found) const {
-  if (!queried_(clusters_[k].first) || v_[k] == Vec<D>::Zero()) return;
   const Vec<D> path = (1.0 - tau) * v_[k];
   const std::vector<int>& members = spheres(k);
   for (std::size_t at = begin; at < end; ++at) {
@@ -226,20 +227,33 @@ void FlightSweep<D>::search_walls(int body, double tau) {
   if (tau + first <= 1.0) events_.push({tau + first, -1, -1, first_k, -1, epoch_[first_k], 0});
 }
 
-// Every event of a body whose motion changed at tau.
+// Every event of a body whose motion changed at tau, found by tasks: a pair of clusters
+// whose bounding spheres can meet, or up to kOutsideSearchPiece spheres of a queried,
+// moving cluster searched against the spheres outside the group. A large body's tasks are
+// shared among the threads.
 template <int D>
 void FlightSweep<D>::search(int body, double tau) {
-  if (searched_spheres(body) >= kParallelSearchSpheres) {
-    search_in_parallel(body, tau);
+  tasks_.clear();
+  for (int k : members_[body]) {
+    for (int m = 0; m < static_cast<int>(clusters_.size()); ++m)
+      if (root(m) != body && can_meet(k, m, tau)) tasks_.push_back({k, m, 0, 0});
+    if (!queried_(clusters_[k].first) || v_[k] == Vec<D>::Zero()) continue;
+    for (std::size_t begin = 0; begin < spheres(k).size(); begin += kOutsideSearchPiece)
+      tasks_.push_back({k, -1, begin, std::min(spheres(k).size(), begin + kOutsideSearchPiece)});
+  }
+  if (tasks_.size() > 1 && searched_spheres(body) >= kParallelSearchSpheres) {
+    run_tasks_in_parallel(tau);
   } else {
-    for (int k : members_[body]) {
-      for (int m = 0; m < static_cast<int>(clusters_.size()); ++m)
-        if (root(m) != body) search_clusters(k, m, tau, found_);
-      search_outside(k, 0, spheres(k).size(), tau, found_);
-    }
+    for (const SearchTask& task : tasks_) run_task(task, tau, found_);
   }
   push_found();
   search_walls(body, tau);
+}
+
+template <int D>
+void FlightSweep<D>::run_task(const SearchTask& task, double tau, std::vector<Event>& found) const {
+  if (task.m >= 0) search_clusters(task.k, task.m, tau, found);
+  else search_outside(task.k, task.begin, task.end, tau, found);
 }
 
 // The spheres of the body's clusters that its searches start from.
@@ -251,31 +265,19 @@ std::size_t FlightSweep<D>::searched_spheres(int body) const {
   return n;
 }
 
-// The same search, as tasks shared among the threads, each finding its events apart.
-// The events are the same whichever thread finds them and in whatever order they are
-// queued: the queue orders them by (tau, spheres, clusters), and equal keys are the same
-// contact (a stale copy of one is skipped), so the sweep's result does not depend on the
-// number of threads.
+// The tasks shared among the threads, each thread finding its events apart. The events
+// are the same whichever thread finds them and in whatever order they are queued: the
+// queue orders them by (tau, spheres, clusters), and equal keys are the same contact (a
+// stale copy of one is skipped), so the sweep's result does not depend on the number of
+// threads.
 template <int D>
-void FlightSweep<D>::search_in_parallel(int body, double tau) {
-  tasks_.clear();
-  for (int k : members_[body]) {
-    for (int m = 0; m < static_cast<int>(clusters_.size()); ++m)
-      if (root(m) != body && can_meet(k, m, tau)) tasks_.push_back({k, m, 0, 0});
-    if (!queried_(clusters_[k].first) || v_[k] == Vec<D>::Zero()) continue;  // as search_outside
-    for (std::size_t begin = 0; begin < spheres(k).size(); begin += kOutsideSearchPiece)
-      tasks_.push_back({k, -1, begin, std::min(spheres(k).size(), begin + kOutsideSearchPiece)});
-  }
+void FlightSweep<D>::run_tasks_in_parallel(double tau) {
   const std::int64_t n_tasks = static_cast<std::int64_t>(tasks_.size());
-#pragma omp parallel if (n_tasks > 1)
+#pragma omp parallel
   {
     std::vector<Event> found;
 #pragma omp for schedule(dynamic, 4) nowait
-    for (std::int64_t t = 0; t < n_tasks; ++t) {
-      const SearchTask& task = tasks_[t];
-      if (task.m >= 0) search_clusters(task.k, task.m, tau, found);
-      else search_outside(task.k, task.begin, task.end, tau, found);
-    }
+    for (std::int64_t t = 0; t < n_tasks; ++t) run_task(tasks_[t], tau, found);
 #pragma omp critical(flight_sweep_found)
     found_.insert(found_.end(), found.begin(), found.end());
   }
