@@ -41,6 +41,14 @@ double first_free(std::vector<std::pair<double, double>>& bad) {
 // it at the end, and the margin of one more eps_c leaves the round-off no say.
 constexpr double kCandidateReach = 2.0;
 
+// The retreating spheres' paths are searched in pieces, checking after each whether any
+// instant is still free: first kFirstRetreatPiece spheres (kParallelLoopMin when the group
+// is large enough to share them among the threads), then a piece of 1 / kRetreatPieceGrowth
+// of those already searched, so that at most about that fraction is searched beyond the
+// point where the answer was known, for O(log) checks.
+constexpr std::int64_t kFirstRetreatPiece = 8;
+constexpr std::int64_t kRetreatPieceGrowth = 4;
+
 template <int D>
 Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, bool with_candidates) {
   const State<D>& s = ctx.state;
@@ -114,16 +122,21 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
       if (m != k && can_meet(k, m)) partners[k].push_back(m);
     for (int i : s.clusters[c].members) retreating.push_back({i, static_cast<std::int32_t>(k)});
   }
-  // The pairs of one retreating sphere i of the group's k-th cluster.
-  auto look_around = [&](Found& out, int i, std::size_t k) {
+  // The pairs of one retreating sphere i of the group's k-th cluster along the part of its
+  // path from the retreat fraction `from` to 1 (0: the whole path; 1: its starting point,
+  // the start of the step). With from = 0 every offset below is exactly the whole path's.
+  auto look_around = [&](Found& out, int i, std::size_t k, double from) {
     const int c = clusters[k].first;
+    const double span = 1.0 - from;
     const Vec<D> start = ctx.positions[i] - ctx.step_shift[i];
     for (std::size_t m : partners[k]) {
       // Not a structured binding: clang 14 cannot capture one in a lambda.
       const int other = clusters[m].first, other_body = clusters[m].second;
       const Vec<D> relative_flight = ctx.flight[c] - ctx.flight[other];
       const Vec<D> to_centre = s.box.separation(start, starts[m].centre);
-      if (distance_to_segment<D>(to_centre, -relative_flight) > starts[m].radius + contact_reach) continue;
+      if (distance_to_segment<D>(Vec<D>(to_centre - from * relative_flight), Vec<D>(-(span * relative_flight))) >
+          starts[m].radius + contact_reach)
+        continue;
       const bool other_queried = queried(other);  // then a pair is taken from its lower sphere id's side
       auto member = [&](int j) {
         if (!(other_queried && j < i)) consider(out, i, j, other_body);
@@ -137,32 +150,59 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
       auto in_other = [&](int j) {
         if (s.spheres.cluster[j] == other) member(j);
       };
-      ctx.cells.for_each_near_segment(start, Vec<D>(-relative_flight), contact_reach + starts[m].longest_shift + ctx.cell_slack,
-                                      in_other);
+      ctx.cells.for_each_near_segment(Vec<D>(start - from * relative_flight), Vec<D>(-(span * relative_flight)),
+                                      contact_reach + starts[m].longest_shift + ctx.cell_slack, in_other);
     }
     auto outside = [&](int j) {
       if (s.spheres.cluster[j] != c && marks.body_index(j) < 0) consider(out, i, j, -1);
     };
-    ctx.cells.for_each_near_segment(start, Vec<D>(-ctx.flight[c]), contact_reach + ctx.cell_slack, outside);
+    ctx.cells.for_each_near_segment(Vec<D>(start - from * ctx.flight[c]), Vec<D>(-(span * ctx.flight[c])),
+                                    contact_reach + ctx.cell_slack, outside);
   };
   // Late in a large run a retreating group holds thousands of spheres: their searches are
   // shared among the threads.
   const std::int64_t n_retreating = static_cast<std::int64_t>(retreating.size());
-#pragma omp parallel for schedule(dynamic, 64) if (n_retreating >= kParallelLoopMin)
-  for (std::int64_t r = 0; r < n_retreating; ++r)
-    look_around(found[thread_index()], retreating[r].first, static_cast<std::size_t>(retreating[r].second));
-  std::vector<Candidate> candidates;
+  const bool parallel = n_retreating >= kParallelLoopMin;
+  auto search = [&](std::int64_t begin, std::int64_t end, double from) {
+#pragma omp parallel for schedule(dynamic, 64) if (parallel)
+    for (std::int64_t r = begin; r < end; ++r)
+      look_around(found[thread_index()], retreating[r].first, static_cast<std::size_t>(retreating[r].second), from);
+  };
+  // The paths are searched in pieces. When the intervals found so far leave no theta in
+  // [0, 1] free, no later piece can free one (an interval only takes instants away): the
+  // group goes back to the start of the step whatever the rest of its paths hold, and
+  // only the pairs touching there are still wanted, found around each sphere's starting
+  // point instead of along its path. Same result as searching every path, for less.
   std::vector<std::pair<double, double>> bad;
-  for (Found& f : found) {
-    candidates.insert(candidates.end(), f.candidates.begin(), f.candidates.end());
-    bad.insert(bad.end(), f.bad.begin(), f.bad.end());
+  auto gather_bad = [&] {
+    for (Found& f : found) {
+      bad.insert(bad.end(), f.bad.begin(), f.bad.end());
+      f.bad.clear();
+    }
+  };
+  std::int64_t searched = 0;
+  bool blocked = false;  // no theta in [0, 1] free, found before every path was searched
+  while (searched < n_retreating && !blocked) {
+    const std::int64_t piece =
+        std::max(parallel ? kParallelLoopMin : kFirstRetreatPiece, searched / kRetreatPieceGrowth);
+    const std::int64_t end = std::min(n_retreating, searched + piece);
+    search(searched, end, 0.0);
+    searched = end;
+    gather_bad();
+    blocked = searched < n_retreating && first_free(bad) > 1.0;
   }
-  const double free_theta = first_free(bad);
+  // The pairs touching at the start of the step: those of the spheres searched are among
+  // their candidates (a pair of two of them, or of one of them with a sphere outside the
+  // group, was looked at from the same side as along the whole path).
+  if (blocked) search(searched, n_retreating, 1.0);
+  std::vector<Candidate> candidates;
+  for (Found& f : found) candidates.insert(candidates.end(), f.candidates.begin(), f.candidates.end());
+  const double free_theta = blocked ? 2.0 : first_free(bad);
   const double theta = std::min(1.0, free_theta);
 
   Retreat<D> retreat{theta, free_theta <= 1.0, {}, {}};
   GroupSolution<D>& out = retreat.solution;
-  if (with_candidates)
+  if (with_candidates && retreat.free)
     for (const Candidate& k : candidates) retreat.candidates.push_back(k.pair);
   out.placed_at_contact = true;
   out.dissolves_bodies = true;

@@ -77,9 +77,10 @@ struct Retreat {
   double theta;                // the fraction of the flight undone
   bool free;                   // at theta nothing overlaps (false: theta = 1, spheres from outside in the way)
   GroupSolution<D> solution;   // the group moved back by theta, its pairs left touching as contacts
-  // With with_candidates: every pair that can come within a contact distance along the
-  // flights (with a sphere outside the group: where it is now), in no particular order.
-  // What the flight sweep starts from; the plain retreat does not need them.
+  // With with_candidates, when the retreat is free: every pair that can come within a
+  // contact distance along the flights (with a sphere outside the group: where it is now),
+  // in no particular order. What the flight sweep starts from; the plain retreat does not
+  // need them, nor does the sweep when no instant is free (the searches then stop early).
   std::vector<SpherePair> candidates;
 };
 
