@@ -338,8 +338,7 @@ bool FlightSweep<D>::valid(const Event& e) const {
 
 template <int D>
 GroupSolution<D> FlightSweep<D>::run(Retreat<D> retreat) {
-  if (!retreat.free || retreat.theta <= 0.0) return std::move(retreat.solution);
-  // The retreat's instant: the group overlaps nothing, and its touching pairs join.
+  // The retreat's instant (free, theta > 0: keep_flight sweeps no other): the group overlaps nothing, and its touching pairs join.
   const double start = 1.0 - retreat.theta;
   contacts_ = retreat.solution.contacts;
   std::vector<char> changed(clusters_.size(), 0);
@@ -404,8 +403,13 @@ GroupSolution<D> FlightSweep<D>::run(Retreat<D> retreat) {
 
 template <int D>
 GroupSolution<D> keep_flight(const ProblemContext<D>& ctx, const CollisionGroup& group) {
+  Retreat<D> retreat = retreat_group(ctx, group, true);
+  // Nothing to sweep when the group is back at the start of the step (most retreats of a
+  // large run) or where free flight put it: the sweep's set-up (the group's bounding
+  // spheres, a pass over every sphere of its clusters) is not made.
+  if (!retreat.free || retreat.theta <= 0.0) return std::move(retreat.solution);
   FlightSweep<D> sweep(ctx, group);
-  return sweep.run(retreat_group(ctx, group, true));
+  return sweep.run(std::move(retreat));
 }
 
 template GroupSolution<2> keep_flight<2>(const ProblemContext<2>&, const CollisionGroup&);
