@@ -338,7 +338,8 @@ bool FlightSweep<D>::valid(const Event& e) const {
 
 template <int D>
 GroupSolution<D> FlightSweep<D>::run(Retreat<D> retreat) {
-  // The retreat's instant (free, theta > 0: keep_flight sweeps no other): the group overlaps nothing, and its touching pairs join.
+  // The retreat's instant (free, theta > 0: keep_flight sweeps no other): the group
+  // overlaps nothing, and its touching pairs join.
   const double start = 1.0 - retreat.theta;
   contacts_ = retreat.solution.contacts;
   std::vector<char> changed(clusters_.size(), 0);

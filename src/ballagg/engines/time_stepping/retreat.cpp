@@ -197,7 +197,7 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
   if (blocked) search(searched, n_retreating, 1.0);
   std::vector<Candidate> candidates;
   for (Found& f : found) candidates.insert(candidates.end(), f.candidates.begin(), f.candidates.end());
-  const double free_theta = blocked ? 2.0 : first_free(bad);
+  const double free_theta = blocked ? 2.0 : first_free(bad);  // above 1: none in [0, 1]
   const double theta = std::min(1.0, free_theta);
 
   Retreat<D> retreat{theta, free_theta <= 1.0, {}, {}};
