@@ -67,6 +67,7 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
   struct Found {
     std::vector<Candidate> candidates;
     std::vector<std::pair<double, double>> bad;
+    bool with_intervals = true;  // false once the verdict is known: only the contacts are wanted
   };
   std::vector<Found> found(max_threads());
   auto consider = [&](Found& out, int i, int j, int bj) {
@@ -86,12 +87,14 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
     // first_free finds in [0, 1] nor whether there is one. So it is dropped at once.
     const double reach = sigma * (1.0 + kCandidateReach * eps_c);
     if (squared_distance_to_segment<D>(Vec<D>::Zero(), base, -drift) > reach * reach) return;
-    double too_near = sigma * (1.0 - tolerance);
-    // A pair of the group that overlaps at theta = 1 (by up to eps_c, left by the last
-    // step) is held to that, never made worse.
-    if (member) too_near = std::min(too_near, (base - drift).norm());
-    const auto interval = too_close<D>(base, drift, too_near);
-    if (interval.first < interval.second && interval.second > 0.0) out.bad.push_back(interval);
+    if (out.with_intervals) {
+      double too_near = sigma * (1.0 - tolerance);
+      // A pair of the group that overlaps at theta = 1 (by up to eps_c, left by the last
+      // step) is held to that, never made worse.
+      if (member) too_near = std::min(too_near, (base - drift).norm());
+      const auto interval = too_close<D>(base, drift, too_near);
+      if (interval.first < interval.second && interval.second > 0.0) out.bad.push_back(interval);
+    }
     out.candidates.push_back({{std::min(i, j), std::max(i, j), 0.0}, base, drift, sigma});
   };
   // Only the pairs that the retreat can bring within contact distance are looked at. A
@@ -194,7 +197,10 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
   // The pairs touching at the start of the step: those of the spheres searched are among
   // their candidates (a pair of two of them, or of one of them with a sphere outside the
   // group, was looked at from the same side as along the whole path).
-  if (blocked) search(searched, n_retreating, 1.0);
+  if (blocked) {
+    for (Found& f : found) f.with_intervals = false;
+    search(searched, n_retreating, 1.0);
+  }
   std::vector<Candidate> candidates;
   for (Found& f : found) candidates.insert(candidates.end(), f.candidates.begin(), f.candidates.end());
   const double free_theta = blocked ? 2.0 : first_free(bad);  // above 1: none in [0, 1]
