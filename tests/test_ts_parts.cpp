@@ -249,6 +249,37 @@ void segment_query_finds_every_point_near_the_segment(Boundary boundary) {
   }
 }
 
+// The centre of each cell is binned in that cell, and its neighbours are the cells of the
+// points around it (what the engine's marks of spheres beyond the skin rely on).
+template <int D>
+void cell_centres_are_in_their_cells(Boundary boundary) {
+  Box<D> box;
+  box.length = 7.3;
+  box.boundary = boundary;
+  const GridGeometry<D> grid(box, 1.0, 1000);
+  ASSERT_EQ(grid.per_side(), 7);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> within(-0.5, 0.5);
+  for (std::int64_t cell = 0; cell < grid.n_cells(); ++cell) {
+    const Vec<D> centre = grid.centre(cell);
+    EXPECT_EQ(grid.cell_index(centre), cell);
+    // Any point of the cell has the same neighbouring cells as its centre.
+    Vec<D> p = centre;
+    for (int a = 0; a < D; ++a) p[a] += within(rng) * grid.cell_size();
+    std::set<std::int64_t> from_centre, from_point;
+    grid.for_each_cell_near(centre, [&](std::int64_t c) { from_centre.insert(c); });
+    grid.for_each_cell_near(p, [&](std::int64_t c) { from_point.insert(c); });
+    EXPECT_EQ(from_centre, from_point);
+  }
+}
+
+TEST(GridGeometry, TheCentreOfACellIsInThatCell) {
+  cell_centres_are_in_their_cells<2>(Boundary::walls);
+  cell_centres_are_in_their_cells<2>(Boundary::periodic);
+  cell_centres_are_in_their_cells<3>(Boundary::walls);
+  cell_centres_are_in_their_cells<3>(Boundary::periodic);
+}
+
 TEST(SortedCellList, SegmentQueryFindsEveryPointNearTheSegment) {
   segment_query_finds_every_point_near_the_segment<2>(Boundary::walls);
   segment_query_finds_every_point_near_the_segment<2>(Boundary::periodic);

@@ -43,6 +43,13 @@ class GridGeometry {
     return static_cast<std::int32_t>(cell);
   }
 
+  // The centre of a cell (its index as cell_index numbers it: x fastest).
+  Vec<D> centre(std::int64_t cell) const {
+    Vec<D> c;
+    for (int a = 0; a < D; ++a, cell /= per_side_) c[a] = (static_cast<double>(cell % per_side_) + 0.5) * cell_size_;
+    return c;
+  }
+
   // Calls f(cell index) for each distinct cell adjacent to the cell of p.
   template <class F>
   void for_each_cell_near(const Vec<D>& p, F&& f) const {

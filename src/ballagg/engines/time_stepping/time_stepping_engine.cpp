@@ -150,6 +150,14 @@ class TimeSteppingEngine final : public Engine<D> {
             length_scale_, delta_w_, mean_mass_, sink_};
   }
   bool rigid() const { return settings_.model == TsModel::rigid; }
+  // Whether sphere i may have moved more than the near list's half skin since its
+  // cluster's pairs were listed.
+  bool beyond_half_skin(const State<D>& s, int i) const {
+    return near_.travel(s.spheres.cluster[i]) + step_shift_[i].norm() > 0.5 * near_.skin();
+  }
+  void mark_spheres_beyond_skin();
+  bool needs_no_contact_query(const State<D>& s, int i) const;
+  void forget_spheres_beyond_skin();
   int body_of_sphere(const State<D>& s, int i) const { return bodies_.body_of(s.spheres.cluster[i]); }
 
   TimeSteppingSettings settings_;
@@ -192,6 +200,14 @@ class TimeSteppingEngine final : public Engine<D> {
   // Set: no cluster has moved more than the near-pair list allows since it was listed, so
   // a sphere in no listed pair touches no other cluster (NearPairs::listed).
   bool near_list_complete_ = false;
+  // Unset, a sphere in no listed pair whose cluster is still within the half skin can
+  // touch only a sphere that a move of this step took beyond it. Per cell of the cell
+  // list's grid: kHoldsBeyond, such a move put a sphere there; kBesideBeyond, it is next
+  // to such a cell. Cleared at the next detection.
+  static constexpr char kHoldsBeyond = 1, kBesideBeyond = 2;
+  std::vector<char> beyond_mark_;
+  std::vector<std::int32_t> beyond_cells_;               // the cells holding one, to clear them
+  std::vector<std::vector<std::int32_t>> beyond_found_;  // per thread, within apply(): their cells
   double length_scale_ = 1.0, delta_w_ = 0.0, mean_mass_ = 1.0;
   std::optional<TimeStepRule> rule_;         // from the state at the start of the run
   bool resumed_ = false;                     // resume_from prepared the next run()
@@ -283,6 +299,9 @@ void TimeSteppingEngine<D>::prepare(const State<D>& s) {
   forget_at_ = kSightingsKept;
   sightings_.assign(max_threads(), {});
   cells_.emplace(s.box, (2.0 + kGridMargin) * s.max_radius(), n);
+  beyond_mark_.assign(static_cast<std::size_t>(cells_->sorted().grid().n_cells()), 0);
+  beyond_cells_.clear();
+  beyond_found_.assign(max_threads(), {});
   cell_slack_ = cells_->cell_size() - 2.0 * s.max_radius();
   near_ = NearPairs<D>(n_cluster_ids, cell_slack_);
   S_ = AdhesiveSet(n_cluster_ids);
@@ -428,6 +447,7 @@ void TimeSteppingEngine<D>::detect_overlaps(const State<D>& s) {
   S_.reserve(touching.size());
   for (const SpherePair& p : touching) S_.add(p.i, p.j, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
   near_list_complete_ = true;  // every cluster is within skin / 2 of its listing now
+  forget_spheres_beyond_skin();
 }
 
 // Steps 2b-2e, the loop (3.1)-(3.2). Each round minimises every group of S (the bodies
@@ -578,7 +598,7 @@ void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const Gro
     n_moved += g->spheres.size();
   }
   const Box<D>& box = *box_;
-  const double half_skin = 0.5 * near_.skin();
+  const GridGeometry<D>& grid = cells_->sorted().grid();
   apply_pieces_.clear();
   for (const GroupSolution<D>* g : solutions)
     for (std::size_t begin = 0; begin < g->spheres.size(); begin += kApplyPiece)
@@ -596,12 +616,19 @@ void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const Gro
       positions_[i] = box.wrap(positions_[i] + g.shift[m]);
       step_shift_[i] += g.shift[m];
       last_pass_[i] = pass_;
-      if (near_.travel(s.spheres.cluster[i]) + step_shift_[i].norm() > half_skin) beyond_skin = true;
+      if (beyond_half_skin(s, i)) {
+        beyond_skin = true;
+        // The spheres of a cluster come one after the other, many in the same cell.
+        std::vector<std::int32_t>& found = beyond_found_[thread_index()];
+        const std::int32_t cell = grid.cell_index(positions_[i]);
+        if (found.empty() || found.back() != cell) found.push_back(cell);
+      }
       moved_since_binning_[i] += g.shift[m];
       rebin_sphere_[i] = binned_drift_[s.spheres.cluster[i]] + moved_since_binning_[i].norm() > cell_slack_;
     }
   }
   if (beyond_skin) near_list_complete_ = false;
+  mark_spheres_beyond_skin();
   for (const GroupSolution<D>* g : solutions)
     for (int i : g->spheres) {
       if (rebin_sphere_[i]) {
@@ -739,15 +766,11 @@ template <int D>
 template <class F>
 void TimeSteppingEngine<D>::for_each_contact(const State<D>& s, const std::vector<int>& spheres, F&& f) const {
   const bool same_cluster_fixed = rigid();
-  // In the rigid model only other clusters count, and a sphere in no listed near pair has
-  // none within reach: late in a run a fragment that hits the giant moves it by a tiny
-  // shift, and each of the giant's spheres is then a lookup instead of a cell query.
-  const bool listed_only = same_cluster_fixed && near_list_complete_;
   const std::int64_t n = static_cast<std::int64_t>(spheres.size());
 #pragma omp parallel for schedule(dynamic, 256) if (n >= kParallelLoopMin)
   for (std::int64_t k = 0; k < n; ++k) {
     const int i = spheres[k];
-    if (listed_only && !near_.listed(i)) continue;
+    if (needs_no_contact_query(s, i)) continue;
     const int ci = s.spheres.cluster[i];
     auto visit = [&](int j) {
       if (j == i || (same_cluster_fixed && s.spheres.cluster[j] == ci)) return;
@@ -757,6 +780,47 @@ void TimeSteppingEngine<D>::for_each_contact(const State<D>& s, const std::vecto
     };
     cells_->for_each_near(positions_[i], visit);
   }
+}
+
+// The cells where apply() put spheres beyond the near list's half skin, and the cells
+// next to them (touching spheres are in neighbouring cells: a cell is at least a contact
+// distance wide).
+template <int D>
+void TimeSteppingEngine<D>::mark_spheres_beyond_skin() {
+  const GridGeometry<D>& grid = cells_->sorted().grid();
+  for (std::vector<std::int32_t>& found : beyond_found_) {
+    for (std::int32_t cell : found) {
+      if (beyond_mark_[cell] & kHoldsBeyond) continue;
+      grid.for_each_cell_near(grid.centre(cell), [&](std::int64_t c) { beyond_mark_[c] |= kBesideBeyond; });
+      beyond_mark_[cell] |= kHoldsBeyond;
+      beyond_cells_.push_back(cell);
+    }
+    found.clear();
+  }
+}
+
+// Whether the contact passes can skip sphere i (rigid model: only other clusters count).
+// A sphere in no listed near pair is farther than its contact distance from every sphere
+// of another cluster, as long as both clusters are within the near list's half skin of
+// where their pairs were listed (NearPairs::listed). So it is skipped when its cluster is,
+// and no sphere moved beyond the half skin in this step is in a cell next to its own.
+// Late in a run a fragment that hits the giant moves it by a tiny shift: each of the
+// giant's spheres is a lookup instead of a cell query. Earlier, at N = 10^6, a retreat
+// takes a cluster back along a flight of up to 8 diameters, far beyond the skin, and the
+// spheres that later rounds of the step move elsewhere in the box are skipped as well.
+template <int D>
+bool TimeSteppingEngine<D>::needs_no_contact_query(const State<D>& s, int i) const {
+  if (!rigid() || near_.listed(i)) return false;
+  if (near_list_complete_) return true;
+  return !beyond_mark_[cells_->sorted().grid().cell_index(positions_[i])] && !beyond_half_skin(s, i);
+}
+
+template <int D>
+void TimeSteppingEngine<D>::forget_spheres_beyond_skin() {
+  const GridGeometry<D>& grid = cells_->sorted().grid();
+  for (std::int32_t cell : beyond_cells_)
+    grid.for_each_cell_near(grid.centre(cell), [&](std::int64_t c) { beyond_mark_[c] = 0; });
+  beyond_cells_.clear();
 }
 
 // A pass over the spheres moved since the previous one (`moved`, sorted, each once: every
