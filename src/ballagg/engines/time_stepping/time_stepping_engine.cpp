@@ -599,6 +599,7 @@ void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const Gro
   }
   const Box<D>& box = *box_;
   const GridGeometry<D>& grid = cells_->sorted().grid();
+  const bool mark_beyond = rigid();  // only the rigid model's contact checks read the marks
   apply_pieces_.clear();
   for (const GroupSolution<D>* g : solutions)
     for (std::size_t begin = 0; begin < g->spheres.size(); begin += kApplyPiece)
@@ -621,7 +622,7 @@ void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const Gro
         // The spheres of a cluster come one after the other, many in the same cell.
         std::vector<std::int32_t>& found = beyond_found_[thread_index()];
         const std::int32_t cell = grid.cell_index(positions_[i]);
-        if (found.empty() || found.back() != cell) found.push_back(cell);
+        if (mark_beyond && (found.empty() || found.back() != cell)) found.push_back(cell);
       }
       moved_since_binning_[i] += g.shift[m];
       rebin_sphere_[i] = binned_drift_[s.spheres.cluster[i]] + moved_since_binning_[i].norm() > cell_slack_;
