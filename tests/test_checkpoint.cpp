@@ -2,6 +2,7 @@
 // resumed continues bit for bit as if it had never stopped, including after SIGKILL at a
 // random moment; a checkpoint that is not exactly what we wrote is refused, never misread.
 #include <fcntl.h>
+#include <zlib.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -9,6 +10,7 @@
 
 #include <chrono>
 #include <cstring>
+#include <limits>
 #include <fstream>
 #include <random>
 #include <thread>
@@ -221,6 +223,66 @@ TEST(Checkpoint, EngineRefusesBytesOfAnotherRun) {
   EXPECT_THROW(make_engine<2>(resolve_defaults(c, same))->resume_from(same, cut), CheckpointError);
   EXPECT_THROW(StateCodec<2>::decode(saver.state.substr(0, saver.state.size() - 1)), CheckpointError);
   EXPECT_THROW(StateCodec<3>::decode(saver.state), CheckpointError);  // a 2D state read as 3D
+}
+
+// A saved state whose structure is sound but whose numbers no run can hold is refused with
+// one CheckpointError naming the field, before any engine sees it.
+TEST(Checkpoint, StateWithNumbersNoRunCanHoldIsRefused) {
+  const Config c = small_config(2, 100, 0.2, Boundary::walls, 2);
+  State<2> ran = make_initial_state<2>(c);
+  RunObserver<2> none;
+  make_event_driven_engine<2>({})->run(ran, {.clusters = 60}, none);
+  const std::string good = StateCodec<2>::encode(ran);
+  ASSERT_NO_THROW(StateCodec<2>::decode(good));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto refused = [&](const std::string& what, auto change) {
+    SCOPED_TRACE(what);
+    State<2> s = StateCodec<2>::decode(good);
+    change(s);
+    try {
+      StateCodec<2>::decode(StateCodec<2>::encode(s));
+      ADD_FAILURE() << "accepted";
+    } catch (const CheckpointError& e) {
+      EXPECT_NE(std::string(e.what()).find(what), std::string::npos) << e.what();
+    }
+  };
+  const int c0 = ran.spheres.cluster[0];
+  refused("sphere radius", [&](State<2>& s) { s.spheres.radius[5] = nan; });
+  refused("sphere radius", [&](State<2>& s) { s.spheres.radius[5] = -0.5; });
+  refused("sphere mass", [&](State<2>& s) { s.spheres.mass[7] = 0.0; });
+  refused("sphere offset", [&](State<2>& s) { s.spheres.offset[0][1] = std::numeric_limits<double>::infinity(); });
+  refused("cluster's motion", [&](State<2>& s) { s.clusters[c0].velocity[0] = nan; });
+  refused("cluster mass", [&](State<2>& s) { s.clusters[c0].mass = nan; });
+  refused("time", [&](State<2>& s) { s.time = nan; });
+  refused("largest radius", [&](State<2>& s) { s.spheres.radius[3] = 2.0 * s.max_radius(); });
+  refused("box length outside", [&](State<2>& s) { s.clusters[c0].anchor[0] = 3.0 * s.box.length; });
+  // The largest radius itself (a cache, saved as is): the bytes patched in place.
+  std::string patched = good;
+  const std::size_t at = patched.size() - (4 + 2 * 8 + 8 + 2 * 8 + 8 + 8 + 8);  // see StateCodec::encode
+  std::memcpy(patched.data() + at, &nan, sizeof nan);
+  EXPECT_THROW(StateCodec<2>::decode(patched), CheckpointError);
+}
+
+// fuzz_checkpoint_sections' finding (2026-12-04, the corpus file below): a rigid-body
+// checkpoint whose state's largest radius was NaN reached the engine's cell grid, which
+// converted NaN to int. The state decoder now refuses it.
+TEST(Checkpoint, FuzzedStateWithNanLargestRadiusIsRefused) {
+  const std::string payload = read_file(std::filesystem::path(BALLAGG_SOURCE_DIR) / "tests" / "fuzz" / "corpus" /
+                                        "fuzz_checkpoint_sections" / "nan_largest_radius.payload");
+  ASSERT_FALSE(payload.empty());
+  // The file around the payload, as the fuzz target makes it: magic, format, byte order,
+  // size, payload, CRC-32.
+  ByteWriter header;
+  header.put(kCheckpointFormat);
+  header.put(std::uint32_t{0x01020304});
+  header.put(std::uint64_t{payload.size()});
+  const auto crc = static_cast<std::uint32_t>(
+      crc32_z(0L, reinterpret_cast<const Bytef*>(payload.data()), static_cast<z_size_t>(payload.size())));
+  std::string file = std::string("BALLAGG CHECKPT\n", 16) + header.bytes() + payload;
+  file.append(reinterpret_cast<const char*>(&crc), sizeof crc);
+  const Checkpoint c = decode_checkpoint(file, "nan_largest_radius.payload");
+  ASSERT_EQ(c.dimension, 3);
+  EXPECT_THROW(StateCodec<3>::decode(c.state), CheckpointError);
 }
 
 // ---- the file format -------------------------------------------------------------------

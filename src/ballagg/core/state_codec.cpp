@@ -1,10 +1,68 @@
 #include "ballagg/core/state_codec.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "ballagg/io/byte_stream.hpp"
 
 namespace ballagg {
+namespace {
+
+template <int D>
+bool finite(const Vec<D>& v) {
+  return v.allFinite();
+}
+
+// How far outside the walls a saved sphere may be: up to a box length. A run leaves spheres
+// at most a round-off outside (the time-stepping engine a little more, between the
+// minimisation that pushed a cluster through a wall and the step that moves it back);
+// beyond, a position is no run's, and the cell lists would bin it through an
+// out-of-range conversion.
+constexpr double kBoxLengthsOutside = 1.0;
+
+// The numbers of a decoded state that no run can produce: not finite, radii and masses not
+// positive, caches of the radii that contradict them, spheres far outside the walls. The
+// structure (indices, counts) is checked as it is read; these are checked here, once it
+// is whole. A state refused here would otherwise reach the engines as NaN positions and
+// cell sizes (a fuzzed checkpoint with a NaN largest radius made the rigid-body engine's
+// cell grid convert NaN to int: fuzz_checkpoint_sections, 2026-12-04).
+template <int D>
+void check_numbers(const State<D>& s, const ByteReader& r) {
+  if (!std::isfinite(s.time)) r.fail("time not a finite number");
+  double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
+  for (int i = 0; i < s.n_spheres(); ++i) {
+    const double radius = s.spheres.radius[i], mass = s.spheres.mass[i];
+    if (!(std::isfinite(radius) && radius > 0.0)) r.fail("a sphere radius not a positive number");
+    if (!(std::isfinite(mass) && mass > 0.0)) r.fail("a sphere mass not a positive number");
+    if (!finite<D>(s.spheres.offset[i])) r.fail("a sphere offset not finite");
+    smallest = std::min(smallest, radius);
+    largest = std::max(largest, radius);
+  }
+  for (const Cluster<D>& k : s.clusters) {
+    if (!(finite<D>(k.anchor) && finite<D>(k.velocity) && std::isfinite(k.anchor_time) && finite<D>(k.lo) &&
+          finite<D>(k.hi) && !std::isnan(k.last_collision_time)))
+      r.fail("a cluster's motion or extent not finite");
+    if (!(std::isfinite(k.mass) && (k.mass > 0.0 || !k.alive()))) r.fail("a cluster mass not a positive number");
+  }
+  // The caches may exceed what the radii say (sphere coagulation keeps the running extremes
+  // of spheres since removed), never contradict it.
+  if (!(std::isfinite(s.max_radius()) && s.max_radius() >= largest)) r.fail("largest radius inconsistent with the radii");
+  if (!(std::isfinite(s.min_diameter()) && s.min_diameter() > 0.0 && s.min_diameter() <= 2.0 * smallest))
+    r.fail("smallest diameter inconsistent with the radii");
+  if (!(std::isfinite(s.mean_radius()) && s.mean_radius() > 0.0)) r.fail("mean radius not a positive number");
+  if (!(finite<D>(s.wall_impulse()) && std::isfinite(s.running_kinetic_energy()) && finite<D>(s.running_momentum())))
+    r.fail("running totals not finite");
+  const double low = -kBoxLengthsOutside * s.box.length, high = (1.0 + kBoxLengthsOutside) * s.box.length;
+  for (int i = 0; i < s.n_spheres(); ++i) {
+    const Vec<D> x = s.unwrapped_position(i, s.time);
+    if (!finite<D>(x)) r.fail("a sphere position not finite");
+    if (!s.box.periodic() && ((x.array() < low).any() || (x.array() > high).any()))
+      r.fail("a sphere more than a box length outside the walls");
+  }
+}
+
+}  // namespace
 
 template <int D>
 std::string StateCodec<D>::encode(const State<D>& s) {
@@ -107,6 +165,7 @@ State<D> StateCodec<D>::decode(std::string_view bytes) {
   s.running_momentum_ = r.get<Vec<D>>("momentum");
   s.resync_below_ = r.get<int>("resync threshold");
   r.expect_end();
+  check_numbers(s, r);
   s.layout_changed();
   return s;
 }
