@@ -130,6 +130,28 @@ TEST(Checkpoint, TimeSteppingResumesBitForBitEveryModel) {
   expect_resumed_runs_identical<3>(c, {0.3});
 }
 
+// The time-stepping engine's saved time step (after its counters: the initial cluster
+// count, then the initial step) is checked like the state's numbers: a NaN or negative
+// step would make every later step NaN or run backwards.
+TEST(Checkpoint, TimeSteppingRefusesASavedTimeStepNoRunCanHave) {
+  Config given = small_config(2, 100, 0.2, Boundary::walls, 8);
+  given.engine.kind = EngineKind::ts;
+  State<2> s = make_initial_state<2>(given);
+  const Config c = resolve_defaults(given, s);
+  SaveOnce<2> saver(0);
+  make_engine<2>(c)->run(s, {.clusters = 90}, saver);
+  ASSERT_FALSE(saver.engine.empty());
+  const std::size_t step_at = sizeof(EngineCounters) + sizeof(std::int32_t);
+  for (double bad : {std::numeric_limits<double>::quiet_NaN(), -1.0, std::numeric_limits<double>::infinity()}) {
+    std::string bytes = saver.engine;
+    std::memcpy(bytes.data() + step_at, &bad, sizeof bad);
+    State<2> resumed = StateCodec<2>::decode(saver.state);
+    EXPECT_THROW(make_engine<2>(c)->resume_from(resumed, bytes), CheckpointError) << bad;
+  }
+  State<2> resumed = StateCodec<2>::decode(saver.state);
+  EXPECT_NO_THROW(make_engine<2>(c)->resume_from(resumed, saver.engine));  // the bytes as saved
+}
+
 // The rigid-body engine can save every 256 events, like the event-driven ones: its bodies
 // (free rotations, own-frame coordinates), lists, calendar and searches are restored as
 // they were, and final.csv (with the spin columns) comes out the same.

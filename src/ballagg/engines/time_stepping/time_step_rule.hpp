@@ -56,6 +56,9 @@ class TimeStepRule {
   void restore(ByteReader& r) {
     initial_clusters_ = r.get<int>("initial cluster count");
     initial_step_ = r.get<double>("initial time step");
+    if (initial_clusters_ < 1) r.fail("initial cluster count below 1");
+    // Zero only for a state at rest (no cluster moves, nothing to step).
+    if (!(std::isfinite(initial_step_) && initial_step_ >= 0.0)) r.fail("initial time step not a finite number >= 0");
   }
 
  private:
