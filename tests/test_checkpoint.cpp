@@ -2,16 +2,16 @@
 // resumed continues bit for bit as if it had never stopped, including after SIGKILL at a
 // random moment; a checkpoint that is not exactly what we wrote is refused, never misread.
 #include <fcntl.h>
-#include <zlib.h>
 #include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <chrono>
 #include <cstring>
-#include <limits>
 #include <fstream>
+#include <limits>
 #include <random>
 #include <thread>
 
