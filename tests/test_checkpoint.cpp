@@ -6,7 +6,6 @@
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
-#include <zlib.h>
 
 #include <chrono>
 #include <cstring>
@@ -21,6 +20,7 @@
 #include "ballagg/io/h5md_reader.hpp"
 #include "ballagg/io/state_csv.hpp"
 #include "cli_support.hpp"
+#include "fuzz/checkpoint_payload.hpp"
 #include "support.hpp"
 #include "thread_count.hpp"
 
@@ -292,17 +292,7 @@ TEST(Checkpoint, FuzzedStateWithNanLargestRadiusIsRefused) {
   const std::string payload = read_file(std::filesystem::path(BALLAGG_SOURCE_DIR) / "tests" / "fuzz" / "corpus" /
                                         "fuzz_checkpoint_sections" / "nan_largest_radius.payload");
   ASSERT_FALSE(payload.empty());
-  // The file around the payload, as the fuzz target makes it: magic, format, byte order,
-  // size, payload, CRC-32.
-  ByteWriter header;
-  header.put(kCheckpointFormat);
-  header.put(std::uint32_t{0x01020304});
-  header.put(std::uint64_t{payload.size()});
-  const auto crc = static_cast<std::uint32_t>(
-      crc32_z(0L, reinterpret_cast<const Bytef*>(payload.data()), static_cast<z_size_t>(payload.size())));
-  std::string file = std::string("BALLAGG CHECKPT\n", 16) + header.bytes() + payload;
-  file.append(reinterpret_cast<const char*>(&crc), sizeof crc);
-  const Checkpoint c = decode_checkpoint(file, "nan_largest_radius.payload");
+  const Checkpoint c = decode_checkpoint(testing::checkpoint_file_of(payload), "nan_largest_radius.payload");
   ASSERT_EQ(c.dimension, 3);
   EXPECT_THROW(StateCodec<3>::decode(c.state), CheckpointError);
 }

@@ -5,8 +5,6 @@
 // configuration (TOML), the State (StateCodec), the engine's own state
 // (Engine::resume_from, every engine that supports checkpoints) and the time series.
 // Any bytes must be accepted or refused with one InputError / CheckpointError.
-#include <zlib.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -19,22 +17,9 @@
 #include "ballagg/io/checkpoint_file.hpp"
 #include "ballagg/io/timeseries.hpp"
 #include "ballagg/run/simulation.hpp"
+#include "checkpoint_payload.hpp"
 
 namespace {
-
-// The file around a payload: magic, format, byte order, size, payload, CRC-32.
-std::string checkpoint_file_of(std::string_view payload) {
-  ballagg::ByteWriter header;
-  header.put(ballagg::kCheckpointFormat);
-  header.put(std::uint32_t{0x01020304});
-  header.put(std::uint64_t{payload.size()});
-  const auto crc = static_cast<std::uint32_t>(
-      crc32_z(0L, reinterpret_cast<const Bytef*>(payload.data()), static_cast<z_size_t>(payload.size())));
-  std::string file = std::string("BALLAGG CHECKPT\n", 16) + header.bytes();
-  file.append(payload);
-  file.append(reinterpret_cast<const char*>(&crc), sizeof crc);
-  return file;
-}
 
 // What run_in_dimension does with a checkpoint before its first output.
 template <int D>
@@ -53,7 +38,7 @@ void restore(const ballagg::Checkpoint& c, const ballagg::Config& config) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {
     const ballagg::Checkpoint c =
-        ballagg::decode_checkpoint(checkpoint_file_of({reinterpret_cast<const char*>(data), size}), "fuzz.bin");
+        ballagg::decode_checkpoint(ballagg::testing::checkpoint_file_of({reinterpret_cast<const char*>(data), size}), "fuzz.bin");
     const ballagg::Config config = ballagg::parse_config_text(c.config_toml, "fuzz.bin");
     if (config.system.dimension != c.dimension) return 0;
     if (c.dimension == 2) restore<2>(c, config);

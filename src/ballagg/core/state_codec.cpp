@@ -9,11 +9,6 @@
 namespace ballagg {
 namespace {
 
-template <int D>
-bool finite(const Vec<D>& v) {
-  return v.allFinite();
-}
-
 // How far outside the walls a saved sphere may be: up to a box length. A run leaves spheres
 // at most a round-off outside (the time-stepping engine a little more, between the
 // minimisation that pushed a cluster through a wall and the step that moves it back);
@@ -35,13 +30,13 @@ void check_numbers(const State<D>& s, const ByteReader& r) {
     const double radius = s.spheres.radius[i], mass = s.spheres.mass[i];
     if (!(std::isfinite(radius) && radius > 0.0)) r.fail("a sphere radius not a positive number");
     if (!(std::isfinite(mass) && mass > 0.0)) r.fail("a sphere mass not a positive number");
-    if (!finite<D>(s.spheres.offset[i])) r.fail("a sphere offset not finite");
+    if (!s.spheres.offset[i].allFinite()) r.fail("a sphere offset not finite");
     smallest = std::min(smallest, radius);
     largest = std::max(largest, radius);
   }
   for (const Cluster<D>& k : s.clusters) {
-    if (!(finite<D>(k.anchor) && finite<D>(k.velocity) && std::isfinite(k.anchor_time) && finite<D>(k.lo) &&
-          finite<D>(k.hi) && !std::isnan(k.last_collision_time)))
+    if (!(k.anchor.allFinite() && k.velocity.allFinite() && std::isfinite(k.anchor_time) && k.lo.allFinite() &&
+          k.hi.allFinite() && !std::isnan(k.last_collision_time)))
       r.fail("a cluster's motion or extent not finite");
     if (!(std::isfinite(k.mass) && (k.mass > 0.0 || !k.alive()))) r.fail("a cluster mass not a positive number");
   }
@@ -51,12 +46,12 @@ void check_numbers(const State<D>& s, const ByteReader& r) {
   if (!(std::isfinite(s.min_diameter()) && s.min_diameter() > 0.0 && s.min_diameter() <= 2.0 * smallest))
     r.fail("smallest diameter inconsistent with the radii");
   if (!(std::isfinite(s.mean_radius()) && s.mean_radius() > 0.0)) r.fail("mean radius not a positive number");
-  if (!(finite<D>(s.wall_impulse()) && std::isfinite(s.running_kinetic_energy()) && finite<D>(s.running_momentum())))
+  if (!(s.wall_impulse().allFinite() && std::isfinite(s.running_kinetic_energy()) && s.running_momentum().allFinite()))
     r.fail("running totals not finite");
   const double low = -kBoxLengthsOutside * s.box.length, high = (1.0 + kBoxLengthsOutside) * s.box.length;
   for (int i = 0; i < s.n_spheres(); ++i) {
     const Vec<D> x = s.unwrapped_position(i, s.time);
-    if (!finite<D>(x)) r.fail("a sphere position not finite");
+    if (!x.allFinite()) r.fail("a sphere position not finite");
     if (!s.box.periodic() && ((x.array() < low).any() || (x.array() > high).any()))
       r.fail("a sphere more than a box length outside the walls");
   }

@@ -620,9 +620,11 @@ void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const Gro
       if (beyond_half_skin(s, i)) {
         beyond_skin = true;
         // The spheres of a cluster come one after the other, many in the same cell.
-        std::vector<std::int32_t>& found = beyond_found_[thread_index()];
-        const std::int32_t cell = grid.cell_index(positions_[i]);
-        if (mark_beyond && (found.empty() || found.back() != cell)) found.push_back(cell);
+        if (mark_beyond) {
+          std::vector<std::int32_t>& found = beyond_found_[thread_index()];
+          const std::int32_t cell = grid.cell_index(positions_[i]);
+          if (found.empty() || found.back() != cell) found.push_back(cell);
+        }
       }
       moved_since_binning_[i] += g.shift[m];
       rebin_sphere_[i] = binned_drift_[s.spheres.cluster[i]] + moved_since_binning_[i].norm() > cell_slack_;
