@@ -518,6 +518,37 @@ double worst_overlap_between_clusters(const State<D>& s) {
   return worst;
 }
 
+TEST(TimeSteppingNearPairs, ASphereMeetsADriftingGiantThatWasNotBinnedAgain) {
+  // As late in a large run: a giant (a glued 20 x 20 block of touching discs) drifts at
+  // 0.12 a step and a lone disc comes at it at 0.2 (dt = 1; the box 40 wide, cells 2 wide).
+  // The near list refreshes the disc's pairs from a cell list in which the giant was binned
+  // up to 3.7 ago, looking that much wider (TimeSteppingEngine::cells_for_queries): the disc
+  // must still stop where it touches the giant, with no overlap left after any step. The
+  // event-driven answer: they meet at t = 9.76 / 0.32 = 30.5, the disc touching the middle
+  // of the giant's facing column head-on, so the step that ends at t = 31 is the last one.
+  // (With the queries looking only as wide as the slack of a freshly binned list, the pair
+  // was found two steps late.)
+  constexpr int kSide = 20;
+  std::vector<Ball<2>> balls;
+  for (int a = 0; a < kSide; ++a)
+    for (int b = 0; b < kSide; ++b) balls.push_back({vec<2>(5 + a, 10 + b), vec<2>(0.12, 0), 0.5, 1.0, 0});
+  balls.push_back({vec<2>(5 + kSide - 1 + 10.76, 19), vec<2>(-0.2, 0), 0.5, 1.0, 1});
+  const int disc = kSide * kSide, facing = (kSide - 1) * kSide + 9;  // the giant's sphere at (24, 19)
+  State<2> s = make_state<2>(40, Boundary::walls, balls);
+  TimeSteppingSettings ts = settings(TsModel::rigid, 0.005);  // dt = 0.005 * 40 / 0.2 = 1
+  Recorder<2> rec;
+  double worst = -1.0;
+  rec.check = [&](const State<2>& st, const EventRecord&) {
+    worst = std::max(worst, worst_overlap_between_clusters(st));
+  };
+  const RunResult r = run_ts(s, ts, until(100.0, 1), &rec);
+  EXPECT_EQ(r.reason, StopReason::clusters);
+  EXPECT_LE(worst, ts.daha.eps_c) << "overlap left after a step";
+  EXPECT_NEAR(distance(s, disc, facing), 1.0, ts.daha.eps_c);
+  EXPECT_NEAR(s.position(disc, s.time)[1], 19.0, 1e-9);
+  EXPECT_EQ(r.counters.steps, 31);
+}
+
 TEST(TimeSteppingLoop, OverlapsLeftWhenTheLoopGivesUpAreSettledByRetreats) {
   // One round per step and long flights: the loop gives up at every step with collisions,
   // its groups retreated one after the other, and some retreats end where others' solutions

@@ -29,9 +29,12 @@ namespace {
 // the spheres are first joined into one cluster that drifts beyond the half skin at every
 // step, as late in a run: its pairs are then listed from the side of the other spheres.
 // The partial refreshes get a cell list that binned each sphere up to its slack (half the
-// skin) away from where it is, as the engine's list kept from earlier steps does.
+// skin) away from where it is, as the engine's list kept from earlier steps does; or, with
+// aged_list, a list binned at an earlier step (rebinned every fourth refresh), with the
+// slack the farthest any sphere has moved since and the positions left unfilled, as the
+// engine passes it to a refresh that queries few spheres (cells_for_queries).
 template <int D>
-void near_pairs_find_every_contact(Boundary boundary, bool giant = false) {
+void near_pairs_find_every_contact(Boundary boundary, bool giant = false, bool aged_list = false) {
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const double length = D == 2 ? 30.0 : 12.0;
@@ -54,6 +57,7 @@ void near_pairs_find_every_contact(Boundary boundary, bool giant = false) {
   std::vector<Vec<D>> positions(s.n_spheres());
   for (int i = 1; giant && i < s.n_spheres() * 85 / 100; ++i) s.merge(0, i, 0.0);
   int lazy_steps = 0;  // steps in which only the listed pairs' positions were asked for
+  int aged_refreshes = 0;
   for (int step = 0; step < 60; ++step) {
     const bool quiet = step % 5 == 4;  // nothing moves: no cluster is stale
     for (int c : quiet ? std::vector<int>{} : s.alive_clusters()) {
@@ -72,7 +76,17 @@ void near_pairs_find_every_contact(Boundary boundary, bool giant = false) {
       cells.build(positions);
       return cells;
     };
-    auto binned_nearby = [&]() -> const MovableCellList<D>& {
+    auto binned_nearby = [&](std::size_t) -> typename NearPairCells<D>::Binned {
+      if (aged_list) {
+        if (aged_refreshes++ % 4 == 0) {
+          for (int i = 0; i < s.n_spheres(); ++i) binned_at[i] = s.position(i, 0.0);
+          kept.build(binned_at);
+        }
+        double drift = 0.0;
+        for (int i = 0; i < s.n_spheres(); ++i)
+          drift = std::max(drift, s.box.separation(s.position(i, 0.0), binned_at[i]).norm());
+        return {kept, drift, true};
+      }
       for (int i = 0; i < s.n_spheres(); ++i) {
         positions[i] = s.position(i, 0.0);
         Vec<D> off;
@@ -82,13 +96,13 @@ void near_pairs_find_every_contact(Boundary boundary, bool giant = false) {
         else binned_at[i] = binned_at[i].cwiseMax(0.0).cwiseMin(s.box.length);
       }
       kept.build(binned_at);
-      return kept;
+      return {kept, slack};
     };
     auto need = [&](const std::vector<std::int32_t>& ids) {
       ++lazy_steps;
       for (std::int32_t i : ids) positions[i] = s.position(i, 0.0);
     };
-    const std::vector<SpherePair> found = near.contacts(s, positions, {all_positions, binned_nearby, slack}, need);
+    const std::vector<SpherePair> found = near.contacts(s, positions, {all_positions, binned_nearby}, need);
     std::vector<std::pair<int, int>> expected, got;
     for (int i = 0; i < s.n_spheres(); ++i)
       for (int j = i + 1; j < s.n_spheres(); ++j) {
@@ -125,6 +139,7 @@ void near_pairs_find_every_contact(Boundary boundary, bool giant = false) {
   EXPECT_GE(near.full_scans(), 1);
   EXPECT_GE(near.partial_scans(), 10);
   EXPECT_GE(lazy_steps, 10);
+  if (aged_list) EXPECT_EQ(aged_refreshes, near.partial_scans());
   if (giant) {
     EXPECT_GE(near.outside_scans(), 20);
   } else {
@@ -142,6 +157,15 @@ TEST(NearPairs, TheDriftingGiantsPairsAreFoundFromTheOtherSpheres) {
   near_pairs_find_every_contact<2>(Boundary::walls, true);
   near_pairs_find_every_contact<2>(Boundary::periodic, true);
   near_pairs_find_every_contact<3>(Boundary::periodic, true);
+}
+
+// Late in a run the engine does not bin a drifted giant again for a refresh that queries
+// a few spheres: the queries look wider by the drift, and read the positions from the state.
+TEST(NearPairs, AListBinnedStepsAgoIsQueriedWiderWithPositionsFromTheState) {
+  near_pairs_find_every_contact<2>(Boundary::walls, true, true);
+  near_pairs_find_every_contact<2>(Boundary::periodic, true, true);
+  near_pairs_find_every_contact<3>(Boundary::periodic, true, true);
+  near_pairs_find_every_contact<2>(Boundary::walls, false, true);
 }
 
 // A partial refresh that queries around sphere A must list its near pair with B although
@@ -174,25 +198,25 @@ TEST(NearPairs, APartialRefreshLooksAsFarAsTheCellListsSlack) {
     cells.build(positions);
     return cells;
   };
-  auto binned_away = [&]() -> const MovableCellList<2>& {
+  auto binned_away = [&](std::size_t) -> NearPairCells<2>::Binned {
     fill();
     std::vector<Vec<2>> binned_at = positions;
     binned_at[1].x() -= slack;
     kept.build(binned_at);
-    return kept;
+    return {kept, slack};
   };
   auto need = [&](const std::vector<std::int32_t>&) { fill(); };
   const int a = s.spheres.cluster[0], b = s.spheres.cluster[1];
-  EXPECT_TRUE(near.contacts(s, positions, {rebuilt, binned_away, slack}, need).empty());  // the first: a full scan
+  EXPECT_TRUE(near.contacts(s, positions, {rebuilt, binned_away}, need).empty());  // the first: a full scan
   near.travelled(a, 0.3);  // A is stale, B is not
-  EXPECT_TRUE(near.contacts(s, positions, {rebuilt, binned_away, slack}, need).empty());
+  EXPECT_TRUE(near.contacts(s, positions, {rebuilt, binned_away}, need).empty());
   EXPECT_EQ(near.full_scans(), 1);
   EXPECT_EQ(near.partial_scans(), 1);
   s.translate(a, Vec<2>(-0.249, 0.0), 0.0);
   near.travelled(a, 0.249);
   s.translate(b, Vec<2>(0.249, 0.0), 0.0);
   near.travelled(b, 0.249);
-  const std::vector<SpherePair> touching = near.contacts(s, positions, {rebuilt, binned_away, slack}, need);
+  const std::vector<SpherePair> touching = near.contacts(s, positions, {rebuilt, binned_away}, need);
   ASSERT_EQ(touching.size(), 1u);
   EXPECT_EQ(std::make_pair(touching[0].i, touching[0].j), std::make_pair(0, 1));
 }

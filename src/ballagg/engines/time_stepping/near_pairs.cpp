@@ -109,14 +109,13 @@ std::vector<SpherePair> NearPairs<D>::contacts(const State<D>& s, const std::vec
     } else {
       for (int c : stale_clusters) query(c);
     }
-    refresh(s, cells.current(), cells.slack, positions, is_stale, queried, query_spheres);
+    const typename NearPairCells<D>::Binned binned = cells.current(query_spheres.size());
+    refresh(s, binned, positions, is_stale, queried, query_spheres);
+    if (binned.lazy_positions) need(listed_spheres());
     for (int c : stale_clusters) travel_[c] = 0.0;
     ++partial_scans_;
   } else {
-    std::vector<std::int32_t> listed;
-    listed.reserve(2 * pairs_.size());
-    for (const Pair& p : pairs_) listed.insert(listed.end(), {p.i, p.j});
-    need(listed);
+    need(listed_spheres());
   }
   ++listing_;
   listed_at_.resize(s.n_spheres(), -1);
@@ -226,27 +225,29 @@ void NearPairs<D>::scan_all(const State<D>& s, const SortedCellList<D>& cells) {
 // pair is found from a queried side, and once). A sphere within sigma + skin of sphere i
 // is binned within sigma + skin + slack of i.
 template <int D>
-void NearPairs<D>::refresh(const State<D>& s, const MovableCellList<D>& cells, double slack,
+void NearPairs<D>::refresh(const State<D>& s, const typename NearPairCells<D>::Binned& cells,
                            const std::vector<Vec<D>>& positions,
                            const std::vector<char>& is_stale, const std::vector<char>& queried,
                            const std::vector<int>& query_spheres) {
+  auto position = [&](int i) -> Vec<D> { return cells.lazy_positions ? s.position(i, s.time) : positions[i]; };
   std::erase_if(pairs_, [&](const Pair& p) {
     return is_stale[s.spheres.cluster[p.i]] || is_stale[s.spheres.cluster[p.j]];
   });
   std::vector<std::vector<Pair>> found(max_threads());
   const std::int64_t n = static_cast<std::int64_t>(query_spheres.size());
-  const double reach = 2.0 * s.max_radius() + skin_ + slack;
+  const double reach = 2.0 * s.max_radius() + skin_ + cells.slack;
 #pragma omp parallel for schedule(dynamic, 256) if (n >= kParallelLoopMin)
   for (std::int64_t k = 0; k < n; ++k) {
     const int i = query_spheres[k];
     const int ci = s.spheres.cluster[i];
     std::vector<Pair>& mine = found[thread_index()];
-    cells.for_each_near_segment(positions[i], Vec<D>::Zero(), reach, [&](int j) {
+    const Vec<D> at = position(i);
+    cells.list.for_each_near_segment(at, Vec<D>::Zero(), reach, [&](int j) {
       const int cj = s.spheres.cluster[j];
       if (cj == ci || !(is_stale[ci] || is_stale[cj])) return;  // same cluster, or still listed
       if (queried[cj] && j < i) return;                           // found from j's side
       const double near = s.spheres.radius[i] + s.spheres.radius[j] + skin_;
-      if (s.box.separation(positions[i], positions[j]).squaredNorm() <= near * near)
+      if (s.box.separation(at, position(j)).squaredNorm() <= near * near)
         mine.push_back({std::min(i, j), std::max(i, j)});
     });
   }
@@ -256,6 +257,15 @@ void NearPairs<D>::refresh(const State<D>& s, const MovableCellList<D>& cells, d
   pairs_.insert(pairs_.end(), fresh.begin(), fresh.end());
   std::inplace_merge(pairs_.begin(), pairs_.begin() + static_cast<std::ptrdiff_t>(old_size), pairs_.end(),
                      pair_less<Pair>);
+}
+
+// The spheres of the listed pairs (with repeats).
+template <int D>
+std::vector<std::int32_t> NearPairs<D>::listed_spheres() const {
+  std::vector<std::int32_t> listed;
+  listed.reserve(2 * pairs_.size());
+  for (const Pair& p : pairs_) listed.insert(listed.end(), {p.i, p.j});
+  return listed;
 }
 
 template class NearPairs<2>;

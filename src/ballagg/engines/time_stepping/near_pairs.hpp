@@ -33,10 +33,17 @@ template <int D>
 struct NearPairCells {
   // Every sphere binned afresh at its position (for a scan of the whole box).
   std::function<const SortedCellList<D>&()> rebuilt;
-  // A cell list in which every sphere is within `slack` of where it is binned (for the
-  // queries of a partial refresh, which look that much wider).
-  std::function<const MovableCellList<D>&()> current;
-  double slack = 0.0;
+  // A cell list in which every sphere is within `slack` of where it is binned, for the
+  // queries of a partial refresh (which look that much wider), given how many spheres they
+  // will be made around. With lazy_positions the positions passed to contacts() have not
+  // been filled: the refresh reads them from the state (State::position at its time), and
+  // `need` is called for the spheres of the listed pairs before they are tested.
+  struct Binned {
+    const MovableCellList<D>& list;
+    double slack;
+    bool lazy_positions = false;
+  };
+  std::function<Binned(std::size_t queries)> current;
 };
 
 template <int D>
@@ -89,9 +96,10 @@ class NearPairs {
   bool stale(int c) const { return !(travel_[c] <= 0.5 * skin_); }
   void scan_all(const State<D>& s, const SortedCellList<D>& cells);
   std::vector<SpherePair> test_listed(const State<D>& s, const std::vector<Vec<D>>& positions);
-  void refresh(const State<D>& s, const MovableCellList<D>& cells, double slack, const std::vector<Vec<D>>& positions,
+  void refresh(const State<D>& s, const typename NearPairCells<D>::Binned& cells, const std::vector<Vec<D>>& positions,
                const std::vector<char>& is_stale, const std::vector<char>& queried,
                const std::vector<int>& query_spheres);
+  std::vector<std::int32_t> listed_spheres() const;
 
   double skin_ = 0.0;
   std::vector<double> travel_;        // per cluster id; +inf before the first listing

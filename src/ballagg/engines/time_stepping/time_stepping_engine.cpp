@@ -46,6 +46,11 @@ constexpr std::size_t kMovedFractionForRebuild = 8;
 // kept, 193 with 0.5, 148 with 0.75 (docs/performance.md, session 13).
 constexpr double kBinnedDrift = 0.75;
 
+// A partial refresh of the near pairs queries the cell list as it is binned, more widely,
+// while its queries visit fewer cells than 1 / kWideQueryShare of the number of spheres
+// (cells_for_queries); beyond, the drifted clusters are binned again first.
+constexpr double kWideQueryShare = 8.0;
+
 // Lists of sphere ids longer than (number of spheres) / kIdsPerBitmapWord are sorted
 // through a bitmap (sort_unique_ids): reading it back costs one word per 64 spheres.
 constexpr std::size_t kIdsPerBitmapWord = 64;
@@ -122,6 +127,7 @@ class TimeSteppingEngine final : public Engine<D> {
   void materialise_positions(const std::vector<std::int32_t>& spheres);
   void rebin();
   const MovableCellList<D>& binned_cells(const State<D>& s);
+  typename NearPairCells<D>::Binned cells_for_queries(const State<D>& s, std::size_t queries);
   void detect_overlaps(const State<D>& s);
   void resolve(const State<D>& s);
   GroupSolution<D> repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
@@ -420,6 +426,30 @@ const MovableCellList<D>& TimeSteppingEngine<D>::binned_cells(const State<D>& s)
   return *cells_;
 }
 
+// The cell list for the queries of a partial refresh of the near pairs (detect_overlaps),
+// and how far a sphere may be from where it is binned. A few queries look wider, by the
+// largest drift of a cluster since it was binned, instead of binning the drifted clusters
+// again: late in a large run the queries are made around the few spheres outside a giant
+// that has drifted past the near list's half skin, and binning the giant again was a
+// rebuild of the whole list every few dozen steps (in a run of 10^6 whose last two
+// clusters, a giant and two spheres, took 340 000 steps to meet, 82 % of each step;
+// docs/performance.md, session 19). The list is left as it is: the step's later stages
+// bin what they need (binned_cells). The pairs found are the same either way.
+template <int D>
+typename NearPairCells<D>::Binned TimeSteppingEngine<D>::cells_for_queries(const State<D>& s, std::size_t queries) {
+  if (cells_built_ && !cells_binned_) {
+    double drift = kBinnedDrift * cell_slack_;
+    for (int c : s.alive_clusters()) drift = std::max(drift, binned_drift_[c]);
+    // The cells a widened query visits, against a rebuild's passes over every sphere.
+    const double reach = (2.0 * s.max_radius() + near_.skin() + drift) / cells_->cell_size();
+    const double cells_per_query = std::pow(2.0 * std::ceil(reach) + 1.0, D);
+    // Nor are the positions of every sphere filled for so few queries.
+    if (static_cast<double>(queries) * cells_per_query * kWideQueryShare <= static_cast<double>(s.n_spheres()))
+      return {*cells_, drift, positions_of_ != nullptr};
+  }
+  return {binned_cells(s), kBinnedDrift * cell_slack_, false};
+}
+
 // Bins every sphere at its position now.
 template <int D>
 void TimeSteppingEngine<D>::rebin() {
@@ -441,7 +471,7 @@ void TimeSteppingEngine<D>::detect_overlaps(const State<D>& s) {
                                  rebin();
                                  return cells_->sorted();
                                },
-                               [&]() -> const MovableCellList<D>& { return binned_cells(s); }, kBinnedDrift * cell_slack_};
+                               [&](std::size_t queries) { return cells_for_queries(s, queries); }};
   const auto need = [this](const std::vector<std::int32_t>& spheres) { materialise_positions(spheres); };
   const std::vector<SpherePair> touching = near_.contacts(s, positions_, cells, need);
   S_.reserve(touching.size());
