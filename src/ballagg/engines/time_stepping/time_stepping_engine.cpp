@@ -46,9 +46,11 @@ constexpr std::size_t kMovedFractionForRebuild = 8;
 // kept, 193 with 0.5, 148 with 0.75 (docs/performance.md, session 13).
 constexpr double kBinnedDrift = 0.75;
 
-// A partial refresh of the near pairs queries the cell list as it is binned, more widely,
-// while its queries visit fewer cells than 1 / kWideQueryShare of the number of spheres
-// (cells_for_queries); beyond, the drifted clusters are binned again first.
+// Partial refreshes of the near pairs query the cell list as it is binned, more widely,
+// while the cells their queries visit since it was last rebuilt number fewer than
+// 1 / kWideQueryShare of the spheres (cells_for_queries; what a rebuild would cost, so
+// that the widening queries of a long tail never cost much more than rebuilding);
+// beyond, the drifted clusters are binned again first.
 constexpr double kWideQueryShare = 8.0;
 
 // Lists of sphere ids longer than (number of spheres) / kIdsPerBitmapWord are sorted
@@ -187,6 +189,7 @@ class TimeSteppingEngine final : public Engine<D> {
   double cell_slack_ = 0.0;                  // how far a sphere may move before it is re-binned
   bool cells_built_ = false;                 // the cell list has been built since prepare()
   bool cells_binned_ = false;                // every sphere is within the cell slack of where it is binned
+  double wide_query_cells_ = 0.0;            // cells visited by widened queries since the list was built
   AdhesiveSet S_;                            // the adhesive set of a round and its groups (of bodies)
   StepBodies bodies_;                        // the clusters of the step, joined by its links
   AdhesiveLinks links_;                      // per-sphere models: the links of the old clusters
@@ -440,12 +443,14 @@ typename NearPairCells<D>::Binned TimeSteppingEngine<D>::cells_for_queries(const
   if (cells_built_ && !cells_binned_) {
     double drift = kBinnedDrift * cell_slack_;
     for (int c : s.alive_clusters()) drift = std::max(drift, binned_drift_[c]);
-    // The cells a widened query visits, against a rebuild's passes over every sphere.
+    // The cells the widened queries visit, against a rebuild's passes over every sphere.
     const double reach = (2.0 * s.max_radius() + near_.skin() + drift) / cells_->cell_size();
-    const double cells_per_query = std::pow(2.0 * std::ceil(reach) + 1.0, D);
-    // Nor are the positions of every sphere filled for so few queries.
-    if (static_cast<double>(queries) * cells_per_query * kWideQueryShare <= static_cast<double>(s.n_spheres()))
+    const double cells = static_cast<double>(queries) * std::pow(2.0 * std::ceil(reach) + 1.0, D);
+    if ((wide_query_cells_ + cells) * kWideQueryShare <= static_cast<double>(s.n_spheres())) {
+      wide_query_cells_ += cells;
+      // Nor are the positions of every sphere filled for so few queries.
       return {*cells_, drift, positions_of_ != nullptr};
+    }
   }
   return {binned_cells(s), kBinnedDrift * cell_slack_, false};
 }
@@ -456,6 +461,7 @@ void TimeSteppingEngine<D>::rebin() {
   materialise_positions();
   cells_->build(positions_);
   cells_built_ = cells_binned_ = true;
+  wide_query_cells_ = 0.0;
   std::fill(moved_since_binning_.begin(), moved_since_binning_.end(), Vec<D>::Zero());
   std::fill(binned_drift_.begin(), binned_drift_.end(), 0.0);
 }
