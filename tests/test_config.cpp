@@ -563,6 +563,8 @@ TEST(Config, OutOfRangeValuesAreRejectedForEveryKeyWithARange) {
       {"ts", "retreat_overlap", "0", "(0, 1]"},
       {"ts", "retreat_overlap", "1.2", "(0, 1]"},
       {"ts", "retreat_pairs", "0", "from 1 to 1000000000"},
+      {"ts", "sweep_reuse_margin", "-0.5", "[0, 1000]"},
+      {"ts", "sweep_reuse_margin", "nan", "[0, 1000]"},
       {"ts", "fall_back", "\"back\"", "\"retreat\", \"keep-flight\""},
   };
   for (const Case& c : cases) {
@@ -633,7 +635,7 @@ TEST(Config, TsSectionIsReadAndWrittenBack) {
   const Config c = parse_config_text("[engine]\nkind = \"ts\"\n[ts]\nmodel = \"non-rigid\"\ndt_factor = 0.005\n"
                                      "dt_rule = \"adaptive\"\neps_c = 1e-4\nmax_iterations = 500\n"
                                      "bond_stretch = 0.25\nstall_iterations = 400\nretreat_overlap = 0.75\n"
-                                     "retreat_pairs = 12\nfall_back = \"retreat\"\n",
+                                     "retreat_pairs = 12\nfall_back = \"retreat\"\nsweep_reuse_margin = 2\n",
                                      "t");
   EXPECT_EQ(c.engine.kind, ballagg::EngineKind::ts);
   EXPECT_EQ(c.ts.model, ballagg::TsModel::non_rigid);
@@ -646,6 +648,7 @@ TEST(Config, TsSectionIsReadAndWrittenBack) {
   EXPECT_DOUBLE_EQ(c.ts.retreat_overlap, 0.75);
   EXPECT_EQ(c.ts.retreat_pairs, 12);
   EXPECT_EQ(c.ts.fall_back, ballagg::TsFallBack::retreat);
+  EXPECT_DOUBLE_EQ(c.ts.sweep_reuse_margin, 2.0);
   const Config back = parse_config_text(ballagg::to_toml_text(c), "back");
   EXPECT_EQ(ballagg::to_toml_text(back), ballagg::to_toml_text(c));
   EXPECT_CONTAINS(ballagg::to_toml_text(c), "[ts]\nmodel = \"non-rigid\"");

@@ -205,6 +205,45 @@ TEST(TimeSteppingKeepFlight, AlmostRigidInvariants2DWalls) {
   });
 }
 
+// The sweep's searches reuse the pairs an earlier search met while a flight stays within
+// ts.sweep_reuse_margin of the flight searched: the same events, so the same run to the
+// bit for any margin (0: every search goes to the cell list; 4 radii: nearly every search
+// after the first of a flight is a reuse). Long steps of a dense gas, every group to the
+// sweep, to one cluster: bodies change their flights hundreds of times.
+template <int D>
+void expect_the_same_run_for_any_reuse_margin(Boundary boundary, int n, std::uint64_t seed) {
+  SCOPED_TRACE(std::to_string(D) + "D " + std::string(to_string(boundary)));
+  std::vector<State<D>> finals;
+  std::vector<RunResult> results;
+  for (const double margin : {0.0, 0.5, 4.0}) {
+    State<D> s = make_initial_state<D>(testing::small_config(D, n, 0.3, boundary, seed));
+    TimeSteppingSettings ts = settings(TsModel::rigid, 0.05);
+    keep_flight_at_long_steps(ts);
+    ts.sweep_reuse_margin = margin;
+    // The others as long as the first (margin 0) took, and a little more: a run that goes
+    // wrong may never reach one cluster.
+    const double end = finals.empty() ? 1e9 : 1.5 * finals[0].time;
+    results.push_back(run_ts(s, ts, until(end, 1)));
+    finals.push_back(std::move(s));
+  }
+  ASSERT_EQ(results[0].reason, StopReason::clusters);
+  for (std::size_t k = 1; k < finals.size(); ++k) {
+    EXPECT_EQ(results[k].reason, StopReason::clusters) << "margin " << k;
+    EXPECT_EQ(results[k].counters.steps, results[0].counters.steps);
+    EXPECT_EQ(results[k].counters.placed_at_contact, results[0].counters.placed_at_contact);
+    EXPECT_EQ(finals[k].time, finals[0].time);
+    for (int i = 0; i < n; ++i) {
+      ASSERT_EQ(finals[k].position(i, finals[k].time), finals[0].position(i, finals[0].time)) << "sphere " << i;
+      ASSERT_EQ(finals[k].velocity(i), finals[0].velocity(i)) << "sphere " << i;
+    }
+  }
+}
+TEST(TimeSteppingKeepFlight, AnySweepReuseMarginGivesTheSameRunToTheBit) {
+  expect_the_same_run_for_any_reuse_margin<2>(Boundary::walls, 3000, 1);
+  expect_the_same_run_for_any_reuse_margin<2>(Boundary::periodic, 3000, 2);
+  expect_the_same_run_for_any_reuse_margin<3>(Boundary::walls, 2000, 3);
+}
+
 // Disc A (radius 0.5, speed +1) hits disc B at rest at t = 0.5 within a step; with the
 // retreat the pair stops there, with keep-flight it flies on at speed 1/2 (rule (2.9)), and
 // when it reaches disc C at rest before the step ends, it stops there and all three join.

@@ -139,7 +139,9 @@ void near_pairs_find_every_contact(Boundary boundary, bool giant = false, bool a
   EXPECT_GE(near.full_scans(), 1);
   EXPECT_GE(near.partial_scans(), 10);
   EXPECT_GE(lazy_steps, 10);
-  if (aged_list) EXPECT_EQ(aged_refreshes, near.partial_scans());
+  if (aged_list) {
+    EXPECT_EQ(aged_refreshes, near.partial_scans());
+  }
   if (giant) {
     EXPECT_GE(near.outside_scans(), 20);
   } else {

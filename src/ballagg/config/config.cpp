@@ -227,6 +227,9 @@ TimeSteppingSettings read_ts_section(const toml::table& root, const std::string&
     t.retreat_overlap = *v;
   if (auto v = ts.integer("retreat_pairs", 1, 1'000'000'000, "must be an integer from 1 to 1000000000"))
     t.retreat_pairs = static_cast<int>(*v);
+  if (auto v = ts.real("sweep_reuse_margin", [](double v) { return v >= 0.0 && v <= 1e3; },
+                       "must be a number in [0, 1000] (sphere radii)"))
+    t.sweep_reuse_margin = *v;
   if (auto v = ts.real("alpha", positive, "must be a number > 0")) d.alpha = *v;
   if (auto v = ts.real("gamma", [](double v) { return v >= 0.0; }, "must be a number >= 0")) d.gamma = *v;
   if (auto v = ts.real("delta", positive, "must be a number > 0")) d.delta = *v;
@@ -594,6 +597,7 @@ std::vector<Section> entries(const Config& c) {
   ts.second.push_back({"max_link_rounds", std::int64_t{t.max_link_rounds}});
   ts.second.push_back({"retreat_overlap", t.retreat_overlap});
   ts.second.push_back({"retreat_pairs", std::int64_t{t.retreat_pairs}});
+  ts.second.push_back({"sweep_reuse_margin", t.sweep_reuse_margin});
   Section stop{"stop", {{"clusters", c.stop.clusters}, {"time", c.stop.time}, {"wall_seconds", c.stop.wall_seconds}}};
   if (c.stop.aggregated_fraction) stop.second.push_back({"aggregated_fraction", *c.stop.aggregated_fraction});
   std::vector<std::string> formats;
