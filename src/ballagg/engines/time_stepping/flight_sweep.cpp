@@ -23,7 +23,6 @@ constexpr std::size_t kParallelSearchSpheres = 2048;
 // How many spheres of one cluster make one task of a parallel search's outside searches.
 constexpr std::size_t kOutsideSearchPiece = 256;
 
-
 // The first t >= 0 at which |B + t V| = sigma while the pair closes in (kNoContact: never).
 // A pair already within sigma and closing in touches at once; one moving apart never.
 template <int D>
@@ -198,8 +197,7 @@ void FlightSweep<D>::search_clusters(const SearchTask& task, double tau, std::ve
     for (const auto& [i, j] : task.kept->pairs) try_pair(i, j, k, m, tau, found);
     return;
   }
-  PairList& kept = task.kept->pairs;
-  kept.clear();
+  PairList& kept = task.kept->pairs;  // empty: add_task started it afresh
   auto keep = [&](int i, int j) {
     kept.push_back({i, j});
     try_pair(i, j, k, m, tau, found);
@@ -235,8 +233,7 @@ void FlightSweep<D>::search_outside(const SearchTask& task, double tau, std::vec
     for (const auto& [i, j] : task.kept->pairs) try_pair(i, j, k, -1, tau, found);
     return;
   }
-  PairList& kept = task.kept->pairs;
-  kept.clear();
+  PairList& kept = task.kept->pairs;  // empty: add_task started it afresh
   const Vec<D> path = (1.0 - tau) * v_[k];
   const std::vector<int>& members = spheres(k);
   for (std::size_t at = task.begin; at < task.end; ++at) {
