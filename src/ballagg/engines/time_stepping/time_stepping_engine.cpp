@@ -178,12 +178,14 @@ class TimeSteppingEngine final : public Engine<D> {
   std::vector<Vec<D>> moved_since_binning_;  // per sphere: this step's moves since it was binned
   std::vector<double> binned_drift_;         // per cluster id: bound on its spheres' moves since binned, before this step's minimisations
   std::vector<double> committed_moves_;      // per cluster id, within commit(): largest move of a sphere since binned
-  std::vector<char> rebin_sphere_;           // per sphere, within apply(): moved beyond the cell slack
   struct ApplyPiece {
     const GroupSolution<D>* solution;
     std::size_t begin, end;  // its spheres [begin, end)
+    std::size_t at;          // where its spheres go in the round's moved list, and in to_rebin_
+    std::size_t n_rebin;     // how many of them moved beyond the cell slack (to_rebin_[at, at + n_rebin))
   };
   std::vector<ApplyPiece> apply_pieces_;     // within apply(): the work shared among the threads
+  std::vector<std::int32_t> to_rebin_;       // within apply(): per piece, its spheres moved beyond the cell slack
   std::vector<Vec<D>> flight_;               // per cluster: its displacement by this step's free flight
   std::optional<MovableCellList<D>> cells_;
   double cell_slack_ = 0.0;                  // how far a sphere may move before it is re-binned
@@ -299,7 +301,6 @@ void TimeSteppingEngine<D>::prepare(const State<D>& s) {
   positions_of_ = nullptr;
   step_shift_.assign(n, Vec<D>::Zero());
   moved_since_binning_.assign(n, Vec<D>::Zero());
-  rebin_sphere_.assign(n, 0);
   binned_drift_.assign(n_cluster_ids, 0.0);
   committed_moves_.assign(n_cluster_ids, 0.0);
   cells_built_ = false;
@@ -637,16 +638,25 @@ void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const Gro
   const GridGeometry<D>& grid = cells_->sorted().grid();
   const bool mark_beyond = rigid();  // only the rigid model's contact checks read the marks
   apply_pieces_.clear();
+  std::size_t at = 0;
   for (const GroupSolution<D>* g : solutions)
-    for (std::size_t begin = 0; begin < g->spheres.size(); begin += kApplyPiece)
-      apply_pieces_.push_back({g, begin, std::min(g->spheres.size(), begin + kApplyPiece)});
+    for (std::size_t begin = 0; begin < g->spheres.size(); begin += kApplyPiece) {
+      const std::size_t end = std::min(g->spheres.size(), begin + kApplyPiece);
+      apply_pieces_.push_back({g, begin, end, at, 0});
+      at += end - begin;
+    }
+  // The moved list and the spheres to bin again are filled by the pieces, each in its own
+  // range (the work on every moved sphere shared, late in a large run 10^5 spheres a round).
+  const std::size_t first_moved = moved.size();
+  moved.resize(first_moved + n_moved);
+  to_rebin_.resize(n_moved);
   bool beyond_skin = false;
   const std::int64_t n_pieces = static_cast<std::int64_t>(apply_pieces_.size());
   const int chunk = static_cast<int>(std::clamp<std::int64_t>(n_pieces / 64, 1, 64));
 #pragma omp parallel for schedule(dynamic, chunk) reduction(|| : beyond_skin) \
     if (n_pieces > 1 && n_moved >= kParallelApply)
   for (std::int64_t k = 0; k < n_pieces; ++k) {
-    const ApplyPiece& piece = apply_pieces_[k];
+    ApplyPiece& piece = apply_pieces_[k];
     const GroupSolution<D>& g = *piece.solution;
     for (std::size_t m = piece.begin; m < piece.end; ++m) {
       const int i = g.spheres[m];
@@ -663,19 +673,19 @@ void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const Gro
         }
       }
       moved_since_binning_[i] += g.shift[m];
-      rebin_sphere_[i] = binned_drift_[s.spheres.cluster[i]] + moved_since_binning_[i].norm() > cell_slack_;
+      moved[first_moved + piece.at + (m - piece.begin)] = i;
+      if (binned_drift_[s.spheres.cluster[i]] + moved_since_binning_[i].norm() > cell_slack_)
+        to_rebin_[piece.at + piece.n_rebin++] = i;
     }
   }
   if (beyond_skin) near_list_complete_ = false;
   mark_spheres_beyond_skin();
-  for (const GroupSolution<D>* g : solutions)
-    for (int i : g->spheres) {
-      if (rebin_sphere_[i]) {
-        cells_->move(i, positions_[i]);
-        moved_since_binning_[i].setZero();
-        rebin_sphere_[i] = 0;
-      }
-      moved.push_back(i);
+  // In the order of the spheres in the solutions, as the pieces come.
+  for (const ApplyPiece& piece : apply_pieces_)
+    for (std::size_t r = piece.at; r < piece.at + piece.n_rebin; ++r) {
+      const int i = to_rebin_[r];
+      cells_->move(i, positions_[i]);
+      moved_since_binning_[i].setZero();
     }
   if (cells_->n_moved() * kMovedFractionForRebuild > positions_.size()) rebin();
 }
