@@ -60,9 +60,7 @@ class FlightSweep {
     root_.resize(n);
     members_.resize(n);
     frozen_.assign(n, 0);
-    outside_kept_.resize(n);
-    for (std::size_t k = 0; k < n; ++k)
-      outside_kept_[k].resize((spheres(static_cast<int>(k)).size() + kOutsideSearchPiece - 1) / kOutsideSearchPiece);
+    outside_kept_.resize(n);  // per cluster, its pieces when it is first searched
     for (std::size_t k = 0; k < n; ++k) {
       v_[k] = ctx.flight[clusters_[k].first];
       a_[k] = -v_[k];
@@ -110,7 +108,7 @@ class FlightSweep {
   };
   // A search's task: the pairs of clusters k and m (m >= 0), or those of k's spheres
   // [begin, end) with the spheres outside the group (m = -1). reuse: kept's pairs are all
-  // it can meet; otherwise it searches the cell list and fills kept.
+  // it can meet (run_task tries them); otherwise it searches the cell list and fills kept.
   struct SearchTask {
     int k, m;
     std::size_t begin, end;
@@ -193,10 +191,6 @@ bool FlightSweep<D>::can_meet(int k, int m, double tau) const {
 template <int D>
 void FlightSweep<D>::search_clusters(const SearchTask& task, double tau, std::vector<Event>& found) const {
   const int k = task.k, m = task.m;
-  if (task.reuse) {
-    for (const auto& [i, j] : task.kept->pairs) try_pair(i, j, k, m, tau, found);
-    return;
-  }
   PairList& kept = task.kept->pairs;  // empty: add_task started it afresh
   auto keep = [&](int i, int j) {
     kept.push_back({i, j});
@@ -229,10 +223,6 @@ void FlightSweep<D>::search_clusters(const SearchTask& task, double tau, std::ve
 template <int D>
 void FlightSweep<D>::search_outside(const SearchTask& task, double tau, std::vector<Event>& found) const {
   const int k = task.k;
-  if (task.reuse) {
-    for (const auto& [i, j] : task.kept->pairs) try_pair(i, j, k, -1, tau, found);
-    return;
-  }
   PairList& kept = task.kept->pairs;  // empty: add_task started it afresh
   const Vec<D> path = (1.0 - tau) * v_[k];
   const std::vector<int>& members = spheres(k);
@@ -307,6 +297,7 @@ void FlightSweep<D>::search(int body, double tau) {
       add_task(from, to, 0, 0, pair_kept_[from * n + to], tau);
     }
     if (!queried_(clusters_[k].first) || v_[k] == Vec<D>::Zero()) continue;
+    if (outside_kept_[k].empty()) outside_kept_[k].resize((spheres(k).size() + kOutsideSearchPiece - 1) / kOutsideSearchPiece);
     for (std::size_t begin = 0; begin < spheres(k).size(); begin += kOutsideSearchPiece)
       add_task(k, -1, begin, std::min(spheres(k).size(), begin + kOutsideSearchPiece),
                outside_kept_[k][begin / kOutsideSearchPiece], tau);
@@ -322,8 +313,13 @@ void FlightSweep<D>::search(int body, double tau) {
 
 template <int D>
 void FlightSweep<D>::run_task(const SearchTask& task, double tau, std::vector<Event>& found) const {
-  if (task.m >= 0) search_clusters(task, tau, found);
-  else search_outside(task, tau, found);
+  if (task.reuse) {
+    for (const auto& [i, j] : task.kept->pairs) try_pair(i, j, task.k, task.m, tau, found);
+  } else if (task.m >= 0) {
+    search_clusters(task, tau, found);
+  } else {
+    search_outside(task, tau, found);
+  }
 }
 
 // The spheres of the body's clusters that its searches start from.
