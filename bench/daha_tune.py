@@ -68,6 +68,9 @@ def main():
     p.add_argument("--start", default="", help="KEY=VALUE ... to start from instead of the defaults")
     p.add_argument("--max-failed", type=int, default=None,
                    help="reject parameter sets that leave more problems unconverged than this")
+    p.add_argument("--constant-damping", action="store_true",
+                   help="search with c_min = c_max: a damping the same for every variable, which keeps the "
+                        "minimisation from moving a group's centre of mass (the dynamical c_i of (3.29) do not)")
     args = p.parse_args()
     if not os.path.exists(TOOL):
         sys.exit(f"{TOOL} not found: run `make build` first")
@@ -75,6 +78,8 @@ def main():
     for kv in args.start.split():
         k, v = kv.split("=")
         best[k] = float(v)
+    if args.constant_damping:
+        best["c_min"] = best["c_max"]
     if best.get("stall_iterations", 0) == 0:
         best["stall_iterations"] = 1000.0  # the search starts with stall detection on
     best_cost, line = cost(best, args.files, args.failure_weight, args.failure_cost)
@@ -84,7 +89,8 @@ def main():
         width = 0.6 if trial < args.trials // 3 else 0.25
         trial_params = {k: v * math.exp(rng.gauss(0.0, width)) if rng.random() < 0.5 else v for k, v in best.items()}
         trial_params["c_max"] = min(trial_params["c_max"], 0.95)
-        trial_params["c_min"] = min(trial_params["c_min"], trial_params["c_max"])
+        trial_params["c_min"] = trial_params["c_max"] if args.constant_damping else min(trial_params["c_min"],
+                                                                                         trial_params["c_max"])
         trial_params["stall_iterations"] = max(20.0, trial_params["stall_iterations"])
         c, line = cost(trial_params, args.files, args.failure_weight, args.failure_cost, args.max_failed)
         if c < best_cost:

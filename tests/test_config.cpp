@@ -654,6 +654,27 @@ TEST(Config, TsSectionIsReadAndWrittenBack) {
   EXPECT_CONTAINS(ballagg::to_toml_text(c), "[ts]\nmodel = \"non-rigid\"");
 }
 
+// The rigid model's DAHA defaults were tuned at N = 10^6; the per-sphere models keep the
+// earlier set (ts_settings.hpp); a key given in the file wins over either.
+TEST(Config, TsDahaDefaultsFollowTheModelAndKeysOverrideThem) {
+  const auto daha_of = [](const std::string& ts_keys) {
+    return parse_config_text("[engine]\nkind = \"ts\"\n[ts]\n" + ts_keys, "t").ts.daha;
+  };
+  const ballagg::DahaParameters rigid = daha_of("");
+  EXPECT_DOUBLE_EQ(rigid.delta, ballagg::DahaParameters{}.delta);
+  EXPECT_EQ(rigid.stall_iterations, ballagg::DahaParameters{}.stall_iterations);
+  for (const char* model : {"almost-rigid", "non-rigid"}) {
+    const ballagg::DahaParameters p = daha_of(std::string("model = \"") + model + "\"\n");
+    EXPECT_DOUBLE_EQ(p.delta, 2.4) << model;
+    EXPECT_DOUBLE_EQ(p.c_min, 0.229) << model;
+    EXPECT_EQ(p.stall_iterations, 440) << model;
+    EXPECT_NE(p.delta, rigid.delta) << model;
+  }
+  const ballagg::DahaParameters given = daha_of("model = \"non-rigid\"\ndelta = 3\n");
+  EXPECT_DOUBLE_EQ(given.delta, 3.0);
+  EXPECT_DOUBLE_EQ(given.alpha, 0.043);
+}
+
 TEST(Config, TsSectionIsLeftOutOfTheResolvedConfigOfOtherEngines) {
   const Config c = parse_config_text("[ts]\nmodel = \"non-rigid\"\n", "t");
   EXPECT_EQ(ballagg::to_toml_text(c).find("[ts]"), std::string::npos);

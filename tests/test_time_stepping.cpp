@@ -43,6 +43,7 @@ RunResult run_ts(State<D>& s, const TimeSteppingSettings& ts, const StopCriteria
 TimeSteppingSettings settings(TsModel model = TsModel::rigid, double dt_factor = 0.013) {
   TimeSteppingSettings ts;
   ts.model = model;
+  ts.daha = default_daha(model);
   ts.dt_factor = dt_factor;
   return ts;
 }

@@ -212,6 +212,7 @@ TimeSteppingSettings read_ts_section(const toml::table& root, const std::string&
   SectionReader ts(root, "ts", source, overridden);
   auto in_open_unit = [](double v) { return v > 0.0 && v < 1.0; };
   if (auto v = ts.choice("model", {"rigid", "almost-rigid", "non-rigid"})) t.model = static_cast<TsModel>(*v);
+  d = default_daha(t.model);  // each model's own; the keys below override them
   if (auto v = ts.choice("dt_rule", {"growth", "adaptive"})) t.dt_rule = static_cast<TsDtRule>(*v);
   if (auto v = ts.choice("fall_back", {"retreat", "keep-flight"})) t.fall_back = static_cast<TsFallBack>(*v);
   if (auto v = ts.real("dt_factor", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]"))
