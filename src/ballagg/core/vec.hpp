@@ -20,4 +20,17 @@ double squared_distance_to_segment(const Vec<D>& p, const Vec<D>& a, const Vec<D
   return (rel - t * d).squaredNorm();
 }
 
+// Relative margin of beyond_squared: far above the rounding of a squared distance (a few
+// 1e-16), far below any distance that matters.
+inline constexpr double kQuickRejectMargin = 1e-9;
+
+// A squared distance above beyond_squared(bound) belongs to a distance above `bound`
+// whatever the rounding: a quick test on squared distances that drops such pairs before an
+// exact test on distances (with a square root, and radii read from memory) that keeps
+// pairs within `bound` at most drops none that the exact test would keep.
+inline double beyond_squared(double bound) {
+  const double widened = bound * (1.0 + kQuickRejectMargin);
+  return widened * widened;
+}
+
 }  // namespace ballagg

@@ -70,10 +70,12 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
     bool with_intervals = true;  // false once the verdict is known: only the contacts are wanted
   };
   std::vector<Found> found(max_threads());
+  // Beyond the largest reach below (that of the largest contact distance) a pair is dropped
+  // before its radii are read, with the same outcome.
+  const double beyond_every_reach2 = beyond_squared(2.0 * s.max_radius() * (1.0 + kCandidateReach * eps_c));
   auto consider = [&](Found& out, int i, int j, int bj) {
     const int ci = s.spheres.cluster[i], cj = s.spheres.cluster[j];
     const bool member = bj >= 0;
-    const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
     // The retreat starts where free flight put the group (this step's minimisations
     // undone); a sphere outside the group stays where it is now.
     const Vec<D> base = s.box.separation(ctx.positions[i] - ctx.step_shift[i],
@@ -85,8 +87,11 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
     // the searches meet) is not too close at any theta in [0, 1] either (too_near < reach):
     // its interval, if any, lies beyond theta = 1 and changes neither the theta that
     // first_free finds in [0, 1] nor whether there is one. So it is dropped at once.
+    const double closest2 = squared_distance_to_segment<D>(Vec<D>::Zero(), base, -drift);
+    if (closest2 > beyond_every_reach2) return;
+    const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
     const double reach = sigma * (1.0 + kCandidateReach * eps_c);
-    if (squared_distance_to_segment<D>(Vec<D>::Zero(), base, -drift) > reach * reach) return;
+    if (closest2 > reach * reach) return;
     if (out.with_intervals) {
       double too_near = sigma * (1.0 - tolerance);
       // A pair of the group that overlaps at theta = 1 (by up to eps_c, left by the last

@@ -815,6 +815,10 @@ template <int D>
 template <class F>
 void TimeSteppingEngine<D>::for_each_contact(const State<D>& s, const std::vector<int>& spheres, F&& f) const {
   const bool same_cluster_fixed = rigid();
+  // Most spheres a cell query meets are farther than the largest contact distance, 2 R_max:
+  // they are passed over on their squared distance, before a radius is read (a scattered
+  // read at N = 10^6) and a square root taken; the same pairs reach f.
+  const double far2 = beyond_squared(2.0 * s.max_radius());
   const std::int64_t n = static_cast<std::int64_t>(spheres.size());
 #pragma omp parallel for schedule(dynamic, 256) if (n >= kParallelLoopMin)
   for (std::int64_t k = 0; k < n; ++k) {
@@ -823,8 +827,10 @@ void TimeSteppingEngine<D>::for_each_contact(const State<D>& s, const std::vecto
     const int ci = s.spheres.cluster[i];
     auto visit = [&](int j) {
       if (j == i || (same_cluster_fixed && s.spheres.cluster[j] == ci)) return;
+      const double d2 = s.box.separation(positions_[i], positions_[j]).squaredNorm();
+      if (d2 > far2) return;
       const double sigma = s.spheres.radius[i] + s.spheres.radius[j];
-      const double d = s.box.separation(positions_[i], positions_[j]).norm();
+      const double d = std::sqrt(d2);  // what norm() gives
       if (d <= sigma) f(i, j, d, sigma);
     };
     cells_->for_each_near(positions_[i], visit);
