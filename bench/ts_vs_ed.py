@@ -6,12 +6,17 @@ lattice start, speed 1, walls) and prints a Markdown table with the median wall 
 the TS work counters and the fitted growth exponents of both engines.
 
 Usage: bench/ts_vs_ed.py [--vfs 0.1 0.2 0.3] [--sizes 10000 100000] [--seeds 3]
-                         [--repeats K] [--dt-factor 0.005] [--fixed-step N_REF] [--ts-only]
-                         [--model rigid] [--set KEY=VALUE ...]
+                         [--repeats K] [--repeat-max-n N] [--show-runs] [--dt-factor 0.005]
+                         [--fixed-step N_REF] [--ts-only] [--model rigid] [--set KEY=VALUE ...]
 
 --repeats K runs every seed of N <= 10^5 K times and keeps its median wall time (a run of
 10^4 takes 0.2 s, and on a shared VM single samples of it move the exponent by +-0.03;
-larger N run once per seed). The work counters are the same in every repeat.
+larger N run once per seed). The work counters are the same in every repeat. The repeats
+are made in rounds, every size and seed once a round, so that the VM's drift during a
+reading (its speed changes by 20-50 % over minutes) reaches every size alike.
+--repeat-max-n N moves that bound (10^6: every size repeated; a reading of 10^4 ... 10^6
+with 5 repeats and 3 seeds takes about 9 minutes). --show-runs prints every run's wall
+time after the table, so that a reading can be checked run by run.
 
 --fixed-step N_REF keeps the step the same in physical time at every N: dt_factor is
 scaled by sqrt(N_REF / N) (L grows as sqrt(N) in 2D), so every N gets the step that
@@ -28,19 +33,38 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from ed_scaling import BINARY, fit_exponent, run_once  # noqa: E402
 
 
-REPEAT_MAX_N = 100000  # --repeats applies up to this N
+REPEAT_MAX_N = 100000  # --repeats applies up to this N unless --repeat-max-n says otherwise
 
 
-def median_run(engine, vf, n, args, extra):
-    ns = SimpleNamespace(vf=vf, boundary="walls", engine=engine, set=extra)
-    repeats = args.repeats if n <= REPEAT_MAX_N else 1
+def collect_runs(args, engines, ts_extra):
+    """Every run, keyed (engine, vf, n, seed). The repeats are made in rounds, each round
+    running every size and seed once, so that a VM that slows down or speeds up during a
+    reading (it does, by 20-50 % over minutes) moves every size alike instead of one."""
+    runs = {}
+    rounds = max(args.repeats, 1)
+    for r in range(rounds):
+        for vf in args.vfs:
+            for n in args.sizes:
+                if r > 0 and n > args.repeat_max_n:
+                    continue
+                for engine in engines:
+                    ns = SimpleNamespace(vf=vf, boundary="walls", engine=engine,
+                                         set=ts_extra(n) if engine == "ts" else args.set)
+                    for seed in range(1, args.seeds + 1):
+                        runs.setdefault((engine, vf, n, seed), []).append(run_once(2, n, seed, ns))
+        print(f"round {r + 1} of {rounds} done", file=sys.stderr, flush=True)
+    return runs
 
-    def seed_run(seed):  # the run of median wall time among the repeats of one seed
-        runs = sorted((run_once(2, n, seed, ns) for _ in range(repeats)), key=lambda s: s["wall_seconds"])
-        return runs[len(runs) // 2]
 
-    runs = sorted((seed_run(seed) for seed in range(1, args.seeds + 1)), key=lambda s: s["wall_seconds"])
-    return runs[len(runs) // 2]
+def median_run(runs, engine, vf, n, seeds, log):
+    """The median over seeds of each seed's median run (by wall time)."""
+    def seed_run(seed):
+        kept = sorted(runs[(engine, vf, n, seed)], key=lambda s: s["wall_seconds"])
+        log.append(f"{engine} Vf {vf} N {n} seed {seed}: " + " ".join(f"{k['wall_seconds']:.3f}" for k in kept))
+        return kept[len(kept) // 2]
+
+    per_seed = sorted((seed_run(seed) for seed in range(1, seeds + 1)), key=lambda s: s["wall_seconds"])
+    return per_seed[len(per_seed) // 2]
 
 
 def main():
@@ -49,7 +73,10 @@ def main():
     p.add_argument("--sizes", type=int, nargs="+", default=[1000, 10000, 100000])
     p.add_argument("--seeds", type=int, default=3)
     p.add_argument("--repeats", type=int, default=1,
-                   help=f"runs per seed for N <= {REPEAT_MAX_N} (the median is kept)")
+                   help="runs per seed for N <= --repeat-max-n (the median is kept)")
+    p.add_argument("--repeat-max-n", type=int, default=REPEAT_MAX_N, metavar="N",
+                   help=f"the largest N that --repeats applies to (default {REPEAT_MAX_N})")
+    p.add_argument("--show-runs", action="store_true", help="print every run's wall time after the table")
     p.add_argument("--dt-factor", type=float, default=0.005)
     p.add_argument("--fixed-step", type=int, metavar="N_REF",
                    help="scale dt_factor by sqrt(N_REF / N): the same step in physical time at every N")
@@ -63,18 +90,20 @@ def main():
         dt_factor = args.dt_factor * (math.sqrt(args.fixed_step / n) if args.fixed_step else 1.0)
         return [f"ts.dt_factor={dt_factor:.9g}", f"ts.model={args.model}"] + args.set
     print(f"command: bench/ts_vs_ed.py {' '.join(sys.argv[1:])}".rstrip())
-    repeats = f" (each of {args.repeats} runs up to N = {REPEAT_MAX_N})" if args.repeats > 1 else ""
+    repeats = f" (each of {args.repeats} runs up to N = {args.repeat_max_n})" if args.repeats > 1 else ""
     print(f"2D, walls, lattice start, speed 1, median of {args.seeds} seeds{repeats}; ts model {args.model}, "
           f"dt_factor {args.dt_factor}" + (f" at N = {args.fixed_step}, scaled by sqrt({args.fixed_step} / N)"
                                            if args.fixed_step else "") + "\n")
     print("| Vf | N | ed (s) | ts (s) | ts / ed | ts steps | minimisations | DAHA iterations | placed at contact |"
           " ts max residual overlap |")
     print("|---|---|---|---|---|---|---|---|---|---|")
+    runs = collect_runs(args, ["ts"] if args.ts_only else ["ed", "ts"], ts_extra)
+    log = []  # every run's wall time, sorted per seed (--show-runs)
     for vf in args.vfs:
         ed_times, ts_times = [], []
         for n in args.sizes:
-            ed = None if args.ts_only else median_run("ed", vf, n, args, args.set)
-            ts = median_run("ts", vf, n, args, ts_extra(n))
+            ed = None if args.ts_only else median_run(runs, "ed", vf, n, args.seeds, log)
+            ts = median_run(runs, "ts", vf, n, args.seeds, log)
             ts_times.append(ts["wall_seconds"])
             ed_cell, ratio = "-", "-"
             if ed:
@@ -87,6 +116,8 @@ def main():
             ed_exponent = f"{fit_exponent(args.sizes, ed_times):.3f}" if ed_times else "-"
             print(f"| {vf} | exponent | {ed_exponent} | {fit_exponent(args.sizes, ts_times):.3f}"
                   " | | | | | | |", flush=True)
+    if args.show_runs:
+        print("\nwall times (s), sorted, per seed:\n" + "\n".join(log))
 
 
 if __name__ == "__main__":
