@@ -15,7 +15,7 @@ larger N run once per seed). The work counters are the same in every repeat. The
 are made in rounds, every size and seed once a round, so that the VM's drift during a
 reading (its speed changes by 20-50 % over minutes) reaches every size alike.
 --repeat-max-n N moves that bound (10^6: every size repeated; a reading of 10^4 ... 10^6
-with 5 repeats and 3 seeds takes about 9 minutes). --show-runs prints every run's wall
+with 5 repeats and 3 seeds takes about 10 minutes; progress goes to stderr). --show-runs prints every run's wall
 time after the table, so that a reading can be checked run by run.
 
 --fixed-step N_REF keeps the step the same in physical time at every N: dt_factor is
@@ -52,7 +52,7 @@ def collect_runs(args, engines, ts_extra):
                                          set=ts_extra(n) if engine == "ts" else args.set)
                     for seed in range(1, args.seeds + 1):
                         runs.setdefault((engine, vf, n, seed), []).append(run_once(2, n, seed, ns))
-        print(f"round {r + 1} of {rounds} done", file=sys.stderr, flush=True)
+                    print(f"round {r + 1} of {rounds}: {engine} Vf {vf} N {n} done", file=sys.stderr, flush=True)
     return runs
 
 
