@@ -9,14 +9,14 @@ Usage: bench/ts_vs_ed.py [--vfs 0.1 0.2 0.3] [--sizes 10000 100000] [--seeds 3]
                          [--repeats K] [--repeat-max-n N] [--show-runs] [--dt-factor 0.005]
                          [--fixed-step N_REF] [--ts-only] [--model rigid] [--set KEY=VALUE ...]
 
---repeats K runs every seed of N <= 10^5 K times and keeps its median wall time (a run of
-10^4 takes 0.2 s, and on a shared VM single samples of it move the exponent by +-0.03;
-larger N run once per seed). The work counters are the same in every repeat. The repeats
-are made in rounds, every size and seed once a round, so that the VM's drift during a
-reading (its speed changes by 20-50 % over minutes) reaches every size alike.
---repeat-max-n N moves that bound (10^6: every size repeated; a reading of 10^4 ... 10^6
-with 5 repeats and 3 seeds takes about 10 minutes; progress goes to stderr). --show-runs prints every run's wall
-time after the table, so that a reading can be checked run by run.
+--repeats K runs every seed of N <= --repeat-max-n (default 10^5) K times and keeps its
+median wall time (a run of 10^4 takes 0.2 s, and on a shared VM single samples of it move
+the exponent by +-0.03; larger N run once per seed). The work counters are the same in
+every repeat. The repeats are made in rounds, every size and seed once a round, so that
+the VM's drift during a reading (its speed changes by 20-50 % over minutes) reaches every
+size alike. With --repeat-max-n 1000000 a reading of 10^4 ... 10^6, 5 repeats and 3 seeds,
+takes about 10 minutes (progress goes to stderr). --show-runs prints every run's wall time
+after the table, so that a reading can be checked run by run.
 
 --fixed-step N_REF keeps the step the same in physical time at every N: dt_factor is
 scaled by sqrt(N_REF / N) (L grows as sqrt(N) in 2D), so every N gets the step that
