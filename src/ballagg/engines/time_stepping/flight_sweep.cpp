@@ -8,6 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "ballagg/core/prefetch.hpp"
+
 namespace ballagg {
 namespace {
 
@@ -456,13 +458,16 @@ GroupSolution<D> FlightSweep<D>::run(Retreat<D> retreat) {
                               [](const SpherePair& x, const SpherePair& y) { return x.i == y.i && x.j == y.j; }),
                   contacts_.end());
   out.contacts = std::move(contacts_);
-  for (int k = 0; k < static_cast<int>(clusters_.size()); ++k)
-    for (int i : spheres(k)) {
-      const Vec<D> shift = displacement(k, 1.0) - ctx_.step_shift[i];
+  for (int k = 0; k < static_cast<int>(clusters_.size()); ++k) {
+    const std::vector<int>& members = spheres(k);
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      prefetch_entries(members, m + kPrefetchAhead, ctx_.step_shift);
+      const Vec<D> shift = displacement(k, 1.0) - ctx_.step_shift[members[m]];
       if (shift == Vec<D>::Zero()) continue;
-      out.spheres.push_back(i);
+      out.spheres.push_back(members[m]);
       out.shift.push_back(shift);
     }
+  }
   return out;
 }
 

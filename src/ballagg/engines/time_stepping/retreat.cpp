@@ -223,13 +223,17 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
     if (std::abs((k.base - theta * k.drift).norm() / k.sigma - 1.0) <= eps_c) out.contacts.push_back(k.pair);
   // In pair order, not in the order the searches above happened to find them.
   std::sort(out.contacts.begin(), out.contacts.end(), pair_less<SpherePair>);
-  for (const auto& [c, b] : clusters)
-    for (int i : s.clusters[c].members) {
+  for (const auto& [c, b] : clusters) {
+    const std::vector<int>& members = s.clusters[c].members;
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      prefetch_entries(members, m + kPrefetchAhead, ctx.step_shift);
+      const int i = members[m];
       const Vec<D> shift = -ctx.step_shift[i] - theta * ctx.flight[c];
       if (shift == Vec<D>::Zero()) continue;
       out.spheres.push_back(i);
       out.shift.push_back(shift);
     }
+  }
   return retreat;
 }
 

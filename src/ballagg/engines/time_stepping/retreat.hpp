@@ -12,6 +12,7 @@
 //
 // Each pair's overlap along the retreat is a quadratic in the retreat fraction theta, so
 // the instants to avoid are a union of intervals, found exactly (no bisection).
+#include "ballagg/core/prefetch.hpp"
 #include "ballagg/engines/time_stepping/minimisation_problem.hpp"
 
 namespace ballagg {
@@ -60,10 +61,16 @@ std::vector<RetreatStart<D>> retreat_starts(const ProblemContext<D>& ctx,
     auto start = [&](int i) { return Vec<D>(ctx.positions[i] - ctx.step_shift[i]); };
     const Vec<D> first = start(members.front());
     Vec<D> sum = Vec<D>::Zero();  // of the separations from the first sphere (periodic images)
-    for (int i : members) sum += s.box.separation(start(i), first);
+    // A giant's members are scattered over the arrays: their entries are asked for ahead.
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      prefetch_entries(members, m + kPrefetchAhead, ctx.positions, ctx.step_shift);
+      sum += s.box.separation(start(members[m]), first);
+    }
     const Vec<D> centre = first + sum / static_cast<double>(members.size());
     double radius = 0.0, longest_shift = 0.0;
-    for (int i : members) {
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      prefetch_entries(members, m + kPrefetchAhead, ctx.positions, ctx.step_shift);
+      const int i = members[m];
       radius = std::max(radius, s.box.separation(start(i), centre).norm());
       longest_shift = std::max(longest_shift, ctx.step_shift[i].norm());
     }

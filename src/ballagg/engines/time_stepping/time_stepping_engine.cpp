@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "ballagg/core/parallel.hpp"
+#include "ballagg/core/prefetch.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
 #include "ballagg/engines/time_stepping/adhesive_set.hpp"
 #include "ballagg/engines/time_stepping/flight_sweep.hpp"
@@ -659,6 +660,10 @@ void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const Gro
     ApplyPiece& piece = apply_pieces_[k];
     const GroupSolution<D>& g = *piece.solution;
     for (std::size_t m = piece.begin; m < piece.end; ++m) {
+      // The spheres of a solution are scattered over the arrays (a giant's members late in
+      // a run): their entries are asked for ahead, or each sphere waits for five loads.
+      prefetch_entries(g.spheres, m + kPrefetchAhead, positions_, step_shift_, moved_since_binning_, last_pass_,
+                       s.spheres.cluster);
       const int i = g.spheres[m];
       positions_[i] = box.wrap(positions_[i] + g.shift[m]);
       step_shift_[i] += g.shift[m];
@@ -989,7 +994,10 @@ void TimeSteppingEngine<D>::commit_rigid_moves(State<D>& s, std::vector<std::int
     const std::vector<int>& members = s.clusters[s.spheres.cluster[i]].members;
     if (members.front() != i) continue;
     double largest = 0.0;
-    for (const int j : members) largest = std::max(largest, moved_since_binning_[j].norm());
+    for (std::size_t m = 0; m < members.size(); ++m) {
+      prefetch_entries(members, m + kPrefetchAhead, moved_since_binning_);
+      largest = std::max(largest, moved_since_binning_[members[m]].norm());
+    }
     drift[k] = largest;
   }
 #pragma omp parallel for schedule(static) if (n >= kParallelLoopMin)
