@@ -52,7 +52,8 @@ constexpr std::int64_t kRetreatPieceGrowth = 4;
 template <int D>
 Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, bool with_candidates) {
   const State<D>& s = ctx.state;
-  const auto clusters = clusters_of_group(ctx, g);
+  const QueriedClusters<D> queried(ctx, g, std::numeric_limits<int>::max());
+  const auto& clusters = queried.clusters;  // (cluster, body index) of the group
   const double tolerance = retreat_tolerance(ctx.settings.daha);
   const double eps_c = ctx.settings.daha.eps_c;
 
@@ -109,7 +110,6 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
   // motion relative to o. So: a narrow search around each such segment (wide enough for
   // the pairs left touching, eps_c, and for the cell list's slack), and o's spheres
   // listed directly when o is small, none at all when o's bounding sphere stays away.
-  const QueriedClusters<D> queried(ctx, g, std::numeric_limits<int>::max());
   const GroupMarks marks(s.spheres.cluster, s.clusters.size(), queried.clusters);
   const double contact_reach = 2.0 * s.max_radius() * (1.0 + ctx.settings.daha.eps_c);
   const std::vector<RetreatStart<D>> starts = retreat_starts(ctx, clusters);
