@@ -56,5 +56,16 @@ TEST(Prefetch, AShortListIsNeverRead) {
   EXPECT_TRUE(array.asked.empty());
 }
 
+TEST(Prefetch, ForEachPrefetchedVisitsEveryIdInOrderAndAsksAhead) {
+  WatchedIds list{{}, {}};
+  for (int id = 0; id < 40; ++id) list.ids.push_back((id * 7) % 40);
+  const WatchedArray array{std::vector<double>(40, 0.0), {}};
+  std::vector<int> visited;
+  for_each_prefetched(list, [&](int id) { visited.push_back(id); }, array);
+  EXPECT_EQ(visited, list.ids);
+  const std::vector<int> ahead(list.ids.begin() + kPrefetchAhead, list.ids.end());
+  EXPECT_EQ(array.asked, ahead);
+}
+
 }  // namespace
 }  // namespace ballagg

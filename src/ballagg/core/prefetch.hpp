@@ -35,4 +35,14 @@ inline void prefetch_entries(const Ids& ids, std::size_t ahead, const Arrays&...
   (prefetch(&arrays[id]), ...);
 }
 
+// Calls f(id) for every id of the list in order, asking for each id's entries in the
+// arrays kPrefetchAhead ids before f reaches it.
+template <class Ids, class F, class... Arrays>
+inline void for_each_prefetched(const Ids& ids, F&& f, const Arrays&... arrays) {
+  for (std::size_t k = 0; k < ids.size(); ++k) {
+    prefetch_entries(ids, k + kPrefetchAhead, arrays...);
+    f(ids[k]);
+  }
+}
+
 }  // namespace ballagg

@@ -459,14 +459,13 @@ GroupSolution<D> FlightSweep<D>::run(Retreat<D> retreat) {
                   contacts_.end());
   out.contacts = std::move(contacts_);
   for (int k = 0; k < static_cast<int>(clusters_.size()); ++k) {
-    const std::vector<int>& members = spheres(k);
-    for (std::size_t m = 0; m < members.size(); ++m) {
-      prefetch_entries(members, m + kPrefetchAhead, ctx_.step_shift);
-      const Vec<D> shift = displacement(k, 1.0) - ctx_.step_shift[members[m]];
-      if (shift == Vec<D>::Zero()) continue;
-      out.spheres.push_back(members[m]);
+    auto move_on = [&](int i) {
+      const Vec<D> shift = displacement(k, 1.0) - ctx_.step_shift[i];
+      if (shift == Vec<D>::Zero()) return;
+      out.spheres.push_back(i);
       out.shift.push_back(shift);
-    }
+    };
+    for_each_prefetched(spheres(k), move_on, ctx_.step_shift);
   }
   return out;
 }

@@ -223,16 +223,15 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
     if (std::abs((k.base - theta * k.drift).norm() / k.sigma - 1.0) <= eps_c) out.contacts.push_back(k.pair);
   // In pair order, not in the order the searches above happened to find them.
   std::sort(out.contacts.begin(), out.contacts.end(), pair_less<SpherePair>);
-  for (const auto& [c, b] : clusters) {
-    const std::vector<int>& members = s.clusters[c].members;
-    for (std::size_t m = 0; m < members.size(); ++m) {
-      prefetch_entries(members, m + kPrefetchAhead, ctx.step_shift);
-      const int i = members[m];
+  for (const auto& cluster_and_body : clusters) {
+    const int c = cluster_and_body.first;  // not a structured binding: clang 14 cannot capture one in a lambda
+    auto move_back = [&](int i) {
       const Vec<D> shift = -ctx.step_shift[i] - theta * ctx.flight[c];
-      if (shift == Vec<D>::Zero()) continue;
+      if (shift == Vec<D>::Zero()) return;
       out.spheres.push_back(i);
       out.shift.push_back(shift);
-    }
+    };
+    for_each_prefetched(s.clusters[c].members, move_back, ctx.step_shift);
   }
   return retreat;
 }

@@ -62,18 +62,17 @@ std::vector<RetreatStart<D>> retreat_starts(const ProblemContext<D>& ctx,
     const Vec<D> first = start(members.front());
     Vec<D> sum = Vec<D>::Zero();  // of the separations from the first sphere (periodic images)
     // A giant's members are scattered over the arrays: their entries are asked for ahead.
-    for (std::size_t m = 0; m < members.size(); ++m) {
-      prefetch_entries(members, m + kPrefetchAhead, ctx.positions, ctx.step_shift);
-      sum += s.box.separation(start(members[m]), first);
-    }
+    for_each_prefetched(
+        members, [&](int i) { sum += s.box.separation(start(i), first); }, ctx.positions, ctx.step_shift);
     const Vec<D> centre = first + sum / static_cast<double>(members.size());
     double radius = 0.0, longest_shift = 0.0;
-    for (std::size_t m = 0; m < members.size(); ++m) {
-      prefetch_entries(members, m + kPrefetchAhead, ctx.positions, ctx.step_shift);
-      const int i = members[m];
-      radius = std::max(radius, s.box.separation(start(i), centre).norm());
-      longest_shift = std::max(longest_shift, ctx.step_shift[i].norm());
-    }
+    for_each_prefetched(
+        members,
+        [&](int i) {
+          radius = std::max(radius, s.box.separation(start(i), centre).norm());
+          longest_shift = std::max(longest_shift, ctx.step_shift[i].norm());
+        },
+        ctx.positions, ctx.step_shift);
     out.push_back({centre, radius, longest_shift});
   }
   return out;

@@ -994,10 +994,8 @@ void TimeSteppingEngine<D>::commit_rigid_moves(State<D>& s, std::vector<std::int
     const std::vector<int>& members = s.clusters[s.spheres.cluster[i]].members;
     if (members.front() != i) continue;
     double largest = 0.0;
-    for (std::size_t m = 0; m < members.size(); ++m) {
-      prefetch_entries(members, m + kPrefetchAhead, moved_since_binning_);
-      largest = std::max(largest, moved_since_binning_[members[m]].norm());
-    }
+    for_each_prefetched(
+        members, [&](int j) { largest = std::max(largest, moved_since_binning_[j].norm()); }, moved_since_binning_);
     drift[k] = largest;
   }
 #pragma omp parallel for schedule(static) if (n >= kParallelLoopMin)
