@@ -43,8 +43,12 @@ class PairIndex {
 
   // Room for `n` entries without growing (a rehash per doubling as a set of a million
   // pairs is filled was a fifth of the serial part of the detection at N = 10^6).
+  // Grown at once to the size needed: growing by doublings from an emptied table filled
+  // every intermediate table too (twice the memory written, each page faulted in afresh).
   void reserve(std::size_t n) {
-    while (2 * n > slots_.size()) grow();
+    std::size_t capacity = slots_.empty() ? kMinCapacity : slots_.size();
+    while (2 * n > capacity) capacity *= 2;
+    if (capacity > slots_.size()) rehash(capacity);
   }
 
   std::size_t size() const { return used_.size(); }
@@ -81,8 +85,10 @@ class PairIndex {
   // Fibonacci hashing: the high bits of key * 2^64 / phi, spread over the table.
   std::size_t home(std::uint64_t key) const { return (key * 0x9E3779B97F4A7C15ull) >> shift_; }
 
-  void grow() {
-    const std::size_t capacity = slots_.empty() ? kMinCapacity : 2 * slots_.size();
+  void grow() { rehash(slots_.empty() ? kMinCapacity : 2 * slots_.size()); }
+
+  // Moves the entries to a table of `capacity` slots (a power of two).
+  void rehash(std::size_t capacity) {
     std::vector<Slot> old;
     old.swap(slots_);
     std::vector<std::uint32_t> old_used;

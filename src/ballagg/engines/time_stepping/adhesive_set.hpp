@@ -10,6 +10,7 @@
 
 #include "ballagg/core/disjoint_sets.hpp"
 #include "ballagg/core/pair_index.hpp"
+#include "ballagg/core/parallel.hpp"
 
 namespace ballagg {
 
@@ -84,15 +85,23 @@ class AdhesiveSet {
     }
     for (int r : roots) changed_mark_[r] = 0;
     changed_.clear();
-    out.reserve(roots.size());
-    for (int r : roots) {
-      CollisionGroup g{clusters_of_[r], pairs_of_[r]};
+    // Each group copied and sorted apart (the first round of a run of 10^6 takes 2 x 10^5
+    // of them, and the copies were a serial 1.5 % of the run), then put in order.
+    const std::int64_t n = static_cast<std::int64_t>(roots.size());
+    std::vector<CollisionGroup> unordered(roots.size());
+    std::vector<std::pair<std::int32_t, std::int32_t>> order(roots.size());  // (lowest body, k)
+#pragma omp parallel for schedule(dynamic, 256) if (n >= kParallelLoopMin)
+    for (std::int64_t k = 0; k < n; ++k) {
+      CollisionGroup& g = unordered[k];
+      g.bodies = clusters_of_[roots[k]];
+      g.pairs = pairs_of_[roots[k]];
       std::sort(g.bodies.begin(), g.bodies.end());
       std::sort(g.pairs.begin(), g.pairs.end());
-      out.push_back(std::move(g));
+      order[k] = {g.bodies.front(), static_cast<std::int32_t>(k)};
     }
-    std::sort(out.begin(), out.end(),
-              [](const CollisionGroup& a, const CollisionGroup& b) { return a.bodies.front() < b.bodies.front(); });
+    std::sort(order.begin(), order.end());  // groups are disjoint: their lowest bodies differ
+    out.reserve(roots.size());
+    for (const auto& [lowest, k] : order) out.push_back(std::move(unordered[k]));
     return out;
   }
 
