@@ -576,6 +576,36 @@ TEST(AdhesiveSet, GroupsAreTheConnectedBodiesInOrderOfTheirLowestId) {
   EXPECT_EQ(S.take_changed_groups()[0].bodies, (std::vector<std::int32_t>{5, 6}));
 }
 
+// With kParallelLoopMin groups or more, the groups are copied and sorted on the threads,
+// then put in order: the same groups in the same order as on one thread, lowest body first,
+// whatever order their pairs were added in.
+TEST(AdhesiveSet, ManyGroupsComeInOrderOfTheirLowestIdOnAnyNumberOfThreads) {
+  const int n_groups = static_cast<int>(2 * kParallelLoopMin);
+  auto groups_on = [&](int threads) {
+    const int previous = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    AdhesiveSet S(3 * n_groups);
+    // Group g joins bodies g, 3 n - 1 - g and n + g by two pairs; groups added last first.
+    for (int g = n_groups - 1; g >= 0; --g) {
+      S.add(4 * g, 4 * g + 1, 3 * n_groups - 1 - g, n_groups + g);
+      S.add(4 * g + 2, 4 * g + 3, n_groups + g, g);
+    }
+    std::vector<CollisionGroup> groups = S.take_changed_groups();
+    omp_set_num_threads(previous);
+    return groups;
+  };
+  const std::vector<CollisionGroup> one = groups_on(1), two = groups_on(2);
+  ASSERT_EQ(one.size(), static_cast<std::size_t>(n_groups));
+  ASSERT_EQ(two.size(), one.size());
+  for (int g = 0; g < n_groups; ++g) {
+    EXPECT_EQ(one[g].bodies, (std::vector<std::int32_t>{g, n_groups + g, 3 * n_groups - 1 - g}));
+    const std::int32_t first_pair = 2 * (n_groups - 1 - g);  // S numbers pairs as they come
+    EXPECT_EQ(one[g].pairs, (std::vector<std::int32_t>{first_pair, first_pair + 1}));
+    EXPECT_EQ(two[g].bodies, one[g].bodies);
+    EXPECT_EQ(two[g].pairs, one[g].pairs);
+  }
+}
+
 // The marks of one group answer for its spheres alone: those of an earlier group (left in
 // the thread's array) are not read as this one's, and cluster ids beyond any earlier
 // group's grow the array.
