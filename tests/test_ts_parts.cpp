@@ -519,9 +519,9 @@ TEST(PairIndex, FindsEveryPairInEitherOrderAndForgetsThemWhenCleared) {
   for (const auto& [i, j] : stored) EXPECT_EQ(index.find(i, j), PairIndex::kAbsent);
 }
 
-// A table grown for a large set is given back when it is cleared with few entries, and
-// one whose entries fill a fair part of it is kept; either way it works on after clear().
-TEST(PairIndex, GivesBackATableFarLargerThanItsEntriesWhenCleared) {
+// A table grown for a large set is shrunk when it is cleared with few entries, and one
+// whose entries fill a fair part of it is kept; either way it works on after clear().
+TEST(PairIndex, ShrinksATableFarLargerThanItsEntriesWhenCleared) {
   PairIndex index;
   for (int k = 0; k < 100000; ++k) index.insert(k, k + 1, k);
   const std::size_t large = index.capacity();
@@ -529,7 +529,7 @@ TEST(PairIndex, GivesBackATableFarLargerThanItsEntriesWhenCleared) {
   index.clear();  // 100 000 entries of 262 144 slots: kept
   EXPECT_EQ(index.capacity(), large);
   for (int k = 0; k < 10; ++k) index.insert(k, k + 2, k);
-  index.clear();  // 10 entries: given back
+  index.clear();  // 10 entries: shrunk
   EXPECT_LT(index.capacity(), large);
   for (int k = 0; k < 3000; ++k) EXPECT_TRUE(index.insert(k, k + 3, k).second);
   for (int k = 0; k < 3000; ++k) {
@@ -537,6 +537,31 @@ TEST(PairIndex, GivesBackATableFarLargerThanItsEntriesWhenCleared) {
     EXPECT_EQ(index.find(k, k + 1), PairIndex::kAbsent);
   }
   EXPECT_EQ(index.size(), 3000u);
+}
+
+// Large, small, large again (the early steps of a large run): a table shrunk at clear()
+// hashes into the front of the storage it keeps, and grows back within it, finding every
+// pair it holds at each size and none of those cleared.
+TEST(PairIndex, ShrinksAndGrowsBackWithinTheStorageItKeeps) {
+  PairIndex index;
+  for (int round = 0; round < 3; ++round) {
+    index.reserve(50000);
+    for (int k = 0; k < 50000; ++k) EXPECT_TRUE(index.insert(k, k + 1 + round, k).second);
+    const std::size_t large = index.capacity();
+    EXPECT_GE(large, 100000u);
+    for (int k = 0; k < 50000; k += 7) EXPECT_EQ(index.find(k + 1 + round, k), k);
+    index.clear();
+    for (int k = 0; k < 20; ++k) index.insert(k, k + 50, k);
+    index.clear();  // 20 entries: hashed into a small table again
+    EXPECT_LT(index.capacity(), large);
+    for (int k = 0; k < 2000; ++k) EXPECT_TRUE(index.insert(k, k + 70, -k).second);  // grows by doublings
+    for (int k = 0; k < 2000; ++k) {
+      EXPECT_EQ(index.find(k + 70, k), -k);
+      EXPECT_EQ(index.find(k, k + 1 + round), PairIndex::kAbsent);
+      EXPECT_EQ(index.find(k, k + 50), PairIndex::kAbsent);
+    }
+    index.clear();
+  }
 }
 
 TEST(PairIndex, ReserveMakesRoomOnceAndKeepsWhatItHolds) {
@@ -603,6 +628,36 @@ TEST(AdhesiveSet, ManyGroupsComeInOrderOfTheirLowestIdOnAnyNumberOfThreads) {
     EXPECT_EQ(one[g].pairs, (std::vector<std::int32_t>{first_pair, first_pair + 1}));
     EXPECT_EQ(two[g].bodies, one[g].bodies);
     EXPECT_EQ(two[g].pairs, one[g].pairs);
+  }
+}
+
+// add_all is the adds one by one (its prefetches change nothing): the same pairs in the
+// same order, repeats dropped, the same groups. Enough pairs that the prefetches reach
+// ahead into the list, and a table that grows while it is filled.
+TEST(AdhesiveSet, AddingAListIsAddingItsPairsOneByOne) {
+  const int n_spheres = 3000, n_clusters = 700;
+  std::mt19937 rng(11);
+  std::vector<std::int32_t> cluster_of(n_spheres);
+  for (auto& c : cluster_of) c = static_cast<std::int32_t>(rng() % n_clusters);
+  std::vector<SpherePair> pairs;
+  for (int k = 0; k < 4000; ++k) {
+    const int i = static_cast<int>(rng() % n_spheres), j = static_cast<int>(rng() % n_spheres);
+    if (i != j) pairs.push_back({std::min(i, j), std::max(i, j), 0.0});
+  }
+  for (int k = 0; k < 100; ++k) pairs.push_back(pairs[rng() % pairs.size()]);  // repeats
+  AdhesiveSet one_by_one(n_clusters), listed(n_clusters);
+  for (const SpherePair& p : pairs) one_by_one.add(p.i, p.j, cluster_of[p.i], cluster_of[p.j]);
+  listed.add_all(pairs, cluster_of);
+  ASSERT_EQ(listed.pairs().size(), one_by_one.pairs().size());
+  for (std::size_t k = 0; k < listed.pairs().size(); ++k) {
+    EXPECT_EQ(listed.pairs()[k].i, one_by_one.pairs()[k].i);
+    EXPECT_EQ(listed.pairs()[k].j, one_by_one.pairs()[k].j);
+  }
+  const std::vector<CollisionGroup> a = one_by_one.take_changed_groups(), b = listed.take_changed_groups();
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t g = 0; g < a.size(); ++g) {
+    EXPECT_EQ(a[g].bodies, b[g].bodies);
+    EXPECT_EQ(a[g].pairs, b[g].pairs);
   }
 }
 

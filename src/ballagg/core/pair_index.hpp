@@ -3,13 +3,19 @@
 // and linear probing in one flat array. The time-stepping engine asks "is (i, j) in the
 // adhesive set S already?" for every contact it finds, and S holds up to a million pairs in
 // the first steps of a large run: std::unordered_map spent most of its time allocating a
-// node per pair. Clearing costs the number of entries, not the capacity; a table left far
-// larger than what it held is given back at clear(), so that the lookups of the many small
-// sets that follow a large one stay in cache (at N = 10^6 the first step's S of a million
-// pairs left a 64 MB table behind, and every later lookup was a cache miss).
+// node per pair. Clearing costs the number of entries, not the capacity. A table left far
+// larger than what it held is shrunk at clear() to a small front part of its storage, so
+// that the lookups of the many small sets that follow a large one stay in cache (at N =
+// 10^6 the first step's S of a million pairs left a 64 MB table behind, and every later
+// lookup was a cache miss). The storage itself is kept, at the cost of the largest table's
+// memory for the rest of the run: the early steps of a run of 10^6 alternate large and
+// small sets, and a table allocated afresh for each large one was zeroed and faulted in
+// page by page every time, on the main thread alone (docs/performance.md, session 27).
 #include <cstdint>
 #include <utility>
 #include <vector>
+
+#include "ballagg/core/prefetch.hpp"
 
 namespace ballagg {
 
@@ -19,7 +25,7 @@ class PairIndex {
 
   // The value stored for (i, j), or kAbsent.
   std::int32_t find(std::int32_t i, std::int32_t j) const {
-    if (slots_.empty()) return kAbsent;
+    if (capacity_ == 0) return kAbsent;
     const std::uint64_t key = pack(i, j);
     for (std::size_t s = home(key);; s = (s + 1) & mask_) {
       if (slots_[s].key == kEmpty) return kAbsent;
@@ -27,9 +33,15 @@ class PairIndex {
     }
   }
 
+  // Asks for the slot where a search for (i, j) starts (a hint: it changes nothing). A
+  // large table is far larger than the caches, and each search waits for that slot.
+  void prefetch(std::int32_t i, std::int32_t j) const {
+    if (capacity_ != 0) ballagg::prefetch(&slots_[home(pack(i, j))]);
+  }
+
   // Stores value for (i, j) unless the pair is there; returns {stored value, inserted}.
   std::pair<std::int32_t, bool> insert(std::int32_t i, std::int32_t j, std::int32_t value) {
-    if (2 * (used_.size() + 1) > slots_.size()) grow();
+    if (2 * (used_.size() + 1) > capacity_) grow();
     const std::uint64_t key = pack(i, j);
     for (std::size_t s = home(key);; s = (s + 1) & mask_) {
       if (slots_[s].key == key) return {slots_[s].value, false};
@@ -46,24 +58,20 @@ class PairIndex {
   // Grown at once to the size needed: growing by doublings from an emptied table filled
   // every intermediate table too (twice the memory written, each page faulted in afresh).
   void reserve(std::size_t n) {
-    std::size_t capacity = slots_.empty() ? kMinCapacity : slots_.size();
+    std::size_t capacity = capacity_ == 0 ? kMinCapacity : capacity_;
     while (2 * n > capacity) capacity *= 2;
-    if (capacity > slots_.size()) rehash(capacity);
+    if (capacity > capacity_) rehash(capacity);
   }
 
   std::size_t size() const { return used_.size(); }
-  std::size_t capacity() const { return slots_.size(); }
+  // The slots in use for hashing (the storage may be larger: see clear()).
+  std::size_t capacity() const { return capacity_; }
 
   void clear() {
-    if (slots_.size() > kMinCapacity && slots_.size() > kShrinkRatio * 2 * used_.size()) {
-      // Emptied and mostly unused: start again small (the next insert grows it as needed).
-      std::vector<Slot>().swap(slots_);
-      std::vector<std::uint32_t>().swap(used_);
-      mask_ = 0;
-      shift_ = 64;
-      return;
-    }
     for (std::uint32_t s : used_) slots_[s].key = kEmpty;
+    // Emptied and mostly unused: hash into a small front part of the storage again (the
+    // next insert grows it as needed, within the storage kept).
+    if (capacity_ > kMinCapacity && capacity_ > kShrinkRatio * 2 * used_.size()) set_capacity(kMinCapacity);
     used_.clear();
   }
 
@@ -85,20 +93,31 @@ class PairIndex {
   // Fibonacci hashing: the high bits of key * 2^64 / phi, spread over the table.
   std::size_t home(std::uint64_t key) const { return (key * 0x9E3779B97F4A7C15ull) >> shift_; }
 
-  void grow() { rehash(slots_.empty() ? kMinCapacity : 2 * slots_.size()); }
+  void grow() { rehash(capacity_ == 0 ? kMinCapacity : 2 * capacity_); }
 
-  // Moves the entries to a table of `capacity` slots (a power of two).
-  void rehash(std::size_t capacity) {
-    std::vector<Slot> old;
-    old.swap(slots_);
-    std::vector<std::uint32_t> old_used;
-    old_used.swap(used_);
-    slots_.assign(capacity, Slot{});
+  void set_capacity(std::size_t capacity) {
+    capacity_ = capacity;
     mask_ = capacity - 1;
     shift_ = 64;
     for (std::size_t c = capacity; c > 1; c >>= 1) --shift_;
-    for (std::uint32_t s : old_used) {
-      const Slot& e = old[s];
+  }
+
+  // Hashes the entries into `capacity` slots (a power of two), in the storage kept when it
+  // is large enough (every slot not in use holds kEmpty there), else in a larger one.
+  void rehash(std::size_t capacity) {
+    std::vector<Slot> entries;
+    entries.reserve(used_.size());
+    for (std::uint32_t s : used_) {
+      entries.push_back(slots_[s]);
+      slots_[s].key = kEmpty;
+    }
+    used_.clear();
+    if (capacity > slots_.size()) {
+      std::vector<Slot>().swap(slots_);  // given back before the larger one is taken
+      slots_.assign(capacity, Slot{});
+    }
+    set_capacity(capacity);
+    for (const Slot& e : entries) {
       std::size_t t = home(e.key);
       while (slots_[t].key != kEmpty) t = (t + 1) & mask_;
       slots_[t] = e;
@@ -106,8 +125,9 @@ class PairIndex {
     }
   }
 
-  std::vector<Slot> slots_;
+  std::vector<Slot> slots_;          // the storage: its first capacity_ slots are the table
   std::vector<std::uint32_t> used_;  // occupied slots, for clear()
+  std::size_t capacity_ = 0;
   std::size_t mask_ = 0;
   int shift_ = 64;
 };

@@ -482,8 +482,7 @@ void TimeSteppingEngine<D>::detect_overlaps(const State<D>& s) {
                                [&](std::size_t queries) { return cells_for_queries(s, queries); }};
   const auto need = [this](const std::vector<std::int32_t>& spheres) { materialise_positions(spheres); };
   const std::vector<SpherePair> touching = near_.contacts(s, positions_, cells, need);
-  S_.reserve(touching.size());
-  for (const SpherePair& p : touching) S_.add(p.i, p.j, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
+  S_.add_all(touching, s.spheres.cluster);
   near_list_complete_ = true;  // every cluster is within skin / 2 of its listing now
   forget_spheres_beyond_skin();
 }
