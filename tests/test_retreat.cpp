@@ -185,5 +185,58 @@ void retreats_match_the_brute_force(int trials) {
 TEST(Retreat, MatchesABruteForceOverAllPairs2D) { retreats_match_the_brute_force<2>(300); }
 TEST(Retreat, MatchesABruteForceOverAllPairs3D) { retreats_match_the_brute_force<3>(100); }
 
+// A group of three clusters: the giant G (still, far away), A (a row of `a_size` spheres
+// that flew up by 2) and the monomer B (flew down by 2 into A's first sphere, 0.2 from its
+// centre at the end of the step). A sphere O outside the group lies beside A's last
+// sphere, 0.6 to its side and 1 below where A ended: A's way back passes O. B alone needs
+// the group back by theta_B; O is too close to A's last sphere for theta in (theta_lo,
+// theta_O), which holds theta_B. Returns the retreat fraction found.
+double retreat_of_a_row_past_an_outside_sphere(int a_size) {
+  constexpr double y_end = 10.0;
+  std::vector<testing::Ball<2>> balls;
+  for (int k = 0; k < a_size + 10; ++k) balls.push_back({Vec<2>(5.0 + k, 40.0), Vec<2>::Zero(), 0.5, 1.0, 0});  // G
+  for (int k = 0; k < a_size; ++k) balls.push_back({Vec<2>(5.0 + k, y_end), Vec<2>::Zero(), 0.5, 1.0, 1});     // A
+  balls.push_back({Vec<2>(5.0, y_end + 0.2), Vec<2>::Zero(), 0.5, 1.0, 2});                                  // B
+  balls.push_back({Vec<2>(5.0 + (a_size - 1) + 0.6, y_end - 1.0), Vec<2>::Zero(), 0.5, 1.0, -1});            // O
+  // The state, free of overlaps, holds the spheres on a lattice; the retreat reads where
+  // they are from the context.
+  std::vector<Vec<2>> positions;
+  for (std::size_t k = 0; k < balls.size(); ++k) {
+    positions.push_back(balls[k].x);
+    balls[k].x = Vec<2>(1.0 + static_cast<double>(k % 90), 60.0 + static_cast<double>(k / 90));
+  }
+  const State<2> s = testing::make_state<2>(100.0, Boundary::walls, balls);
+  const int n_ids = static_cast<int>(s.clusters.size());
+  const int g = s.spheres.cluster[0], a = s.spheres.cluster[a_size + 10], b = s.spheres.cluster[2 * a_size + 10];
+  std::vector<Vec<2>> step_shift(s.n_spheres(), Vec<2>::Zero()), flight(n_ids, Vec<2>::Zero());
+  flight[a] = Vec<2>(0.0, 2.0);
+  flight[b] = Vec<2>(0.0, -2.0);
+  MovableCellList<2> cells(s.box, 4.0 * s.max_radius(), s.n_spheres());
+  cells.build(positions);
+  const StepBodies bodies(n_ids);
+  const AdhesiveSet S(n_ids);
+  const AdhesiveLinks links(s.n_spheres());
+  const TimeSteppingSettings settings;
+  const ProblemContext<2> ctx{s, positions, step_shift, flight, bodies, cells, cells.cell_size() - 2.0 * s.max_radius(),
+                              S, links, settings, 1.0, 4.0, 1.0};
+  CollisionGroup group;
+  group.bodies = {g, a, b};
+  const Retreat<2> retreat = retreat_group(ctx, group);
+  EXPECT_TRUE(retreat.free);
+  return retreat.theta;
+}
+
+// A cluster of the group other than its largest is searched along its way back for spheres
+// outside the group up to kOutsideSearchedClusterSize spheres, and not beyond (retreat.hpp).
+TEST(Retreat, SearchesOutsideTheGroupOnlyAlongThePathsOfClustersUpToTheSizeSet) {
+  const double too_near = 1.0 - retreat_tolerance(TimeSteppingSettings{}.daha);  // radii 0.5
+  const double theta_b = (too_near - 0.2) / 4.0;  // B and A part at 4 per unit of theta
+  // O and A's last sphere: 0.6 apart sideways, 1 - 2 theta apart along the flight.
+  const double theta_o = (1.0 + std::sqrt(too_near * too_near - 0.36)) / 2.0;
+  ASSERT_LT((1.0 - std::sqrt(too_near * too_near - 0.36)) / 2.0, theta_b);  // O's interval holds theta_B
+  EXPECT_NEAR(retreat_of_a_row_past_an_outside_sphere(kOutsideSearchedClusterSize), theta_o, 1e-12);
+  EXPECT_NEAR(retreat_of_a_row_past_an_outside_sphere(kOutsideSearchedClusterSize + 1), theta_b, 1e-12);
+}
+
 }  // namespace
 }  // namespace ballagg

@@ -221,7 +221,8 @@ void FlightSweep<D>::search_clusters(const SearchTask& task, double tau, std::ve
 
 // The spheres outside the group that spheres [begin, end) of cluster k can touch after tau.
 // For a queried cluster that moves (search() makes no such task for a still one, nor for
-// the group's giant, as in the retreat: what the giant meets is found by the next round).
+// the group's giant or a cluster of more than kOutsideSearchedClusterSize spheres, as in
+// the retreat: what they meet is found by the next round).
 template <int D>
 void FlightSweep<D>::search_outside(const SearchTask& task, double tau, std::vector<Event>& found) const {
   const int k = task.k;
@@ -298,7 +299,8 @@ void FlightSweep<D>::search(int body, double tau) {
       const int from = queried_(clusters_[k].first) ? k : m, to = from == k ? m : k;
       add_task(from, to, 0, 0, pair_kept_[from * n + to], tau);
     }
-    if (!queried_(clusters_[k].first) || v_[k] == Vec<D>::Zero()) continue;
+    const int c = clusters_[k].first;
+    if (!queried_(c) || !searched_against_outside(s_, c) || v_[k] == Vec<D>::Zero()) continue;
     if (outside_kept_[k].empty()) outside_kept_[k].resize((spheres(k).size() + kOutsideSearchPiece - 1) / kOutsideSearchPiece);
     for (std::size_t begin = 0; begin < spheres(k).size(); begin += kOutsideSearchPiece)
       add_task(k, -1, begin, std::min(spheres(k).size(), begin + kOutsideSearchPiece),

@@ -134,6 +134,8 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
     listed_first[k + 1] = listed_start.size();
   }
   std::vector<std::vector<std::size_t>> partners(clusters.size());
+  std::vector<char> outside_searched(clusters.size());
+  for (std::size_t k = 0; k < clusters.size(); ++k) outside_searched[k] = searched_against_outside(s, clusters[k].first);
   std::vector<std::pair<std::int32_t, std::int32_t>> retreating;  // (sphere, k) of the queried clusters
   for (std::size_t k = 0; k < clusters.size(); ++k) {
     const int c = clusters[k].first;
@@ -180,6 +182,7 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
       ctx.cells.for_each_near_segment(Vec<D>(start - from * relative_flight), Vec<D>(-(span * relative_flight)),
                                       contact_reach + starts[m].longest_shift + ctx.cell_slack, in_other);
     }
+    if (!outside_searched[k]) return;
     auto outside = [&](int j) {
       if (s.spheres.cluster[j] != c && marks.body_index(j) < 0) consider(out, i, j, -1);
     };
