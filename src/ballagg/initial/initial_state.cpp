@@ -12,6 +12,7 @@
 
 #include "ballagg/core/random.hpp"
 #include "ballagg/core/tolerances.hpp"
+#include "ballagg/initial/sphere_layout_check.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
 
 namespace ballagg {
@@ -327,6 +328,7 @@ State<D> make_initial_state(const Config& c) {
     table.mass.assign(c.system.n, c.system.mass);
   }
   State<D> s = assemble_state(box, table);
+  if (c.initial.positions == InitialPositions::file) check_sphere_layout(box, table, layout_tolerance(c));
   if (c.engine.kind != EngineKind::rigid_body) {
     for (std::size_t i = 0; i < table.spin.size(); ++i)
       if (table.spin[i] != Spin<D>::Zero())
