@@ -3,6 +3,7 @@
 // ballagg.run / resume / verify, the command line's run, run --resume and verify.
 #include <filesystem>
 #include <limits>
+#include <stdexcept>
 
 #include <fmt/format.h>
 
@@ -75,14 +76,34 @@ class Simulation {
   explicit Simulation(const Config& given)
       : state_(make_initial_state<D>(given)), config_(resolve_defaults(given, state_)), engine_(make_engine<D>(config_)) {}
 
-  py::dict run(const py::object& self, const py::object& callback, std::int64_t every, std::optional<int> clusters,
-               std::optional<double> time, std::optional<double> wall_seconds) {
+  py::dict run(const py::object& self, const py::object& callback, std::int64_t every,
+               std::optional<std::int64_t> clusters, std::optional<double> time, std::optional<double> wall_seconds) {
+    // The engine is in the middle of an event while the callback runs: a second run from
+    // there would work on a state and a calendar that the first one still holds.
+    if (running_)
+      throw std::runtime_error("Simulation.run called while the simulation runs (from its callback): return False from "
+                            "the callback to end the run, then call run() again");
     if (every < 1) throw py::value_error("every must be >= 1");
     StopCriteria stop = stop_criteria(config_);
-    if (clusters) stop.clusters = *clusters;
-    if (time) stop.time = *time;
-    if (wall_seconds) stop.wall_seconds = *wall_seconds;
+    // The checks of the configuration's [stop] keys, with the same words.
+    if (clusters) {
+      check_stop_clusters(*clusters, "Simulation.run argument clusters");
+      stop.clusters = *clusters;
+    }
+    if (time) {
+      check_stop_duration(*time, "Simulation.run argument time");
+      stop.time = *time;
+    }
+    if (wall_seconds) {
+      check_stop_duration(*wall_seconds, "Simulation.run argument wall_seconds");
+      stop.wall_seconds = *wall_seconds;
+    }
     PythonObserver<D> observer(callback, every, self);
+    struct Running {
+      bool& flag;
+      explicit Running(bool& f) : flag(f) { flag = true; }
+      ~Running() { flag = false; }
+    } running(running_);
     try {
       const RunResult r = engine_->run(state_, stop, observer);
       return result_dict(to_string(r.reason), r.counters, r.wall_seconds);
@@ -100,13 +121,14 @@ class Simulation {
   State<D> state_;
   Config config_;
   std::unique_ptr<Engine<D>> engine_;
+  bool running_ = false;  // inside run(): the callback may read the state, not run it
 };
 
 template <int D>
 void bind_simulation_in(py::module_& m, const char* name) {
   using S = Simulation<D>;
   py::class_<S>(m, name, "A simulation in D dimensions (made by ballagg.Simulation(config))")
-      .def("run", [](py::object self, const py::object& callback, std::int64_t every, std::optional<int> clusters,
+      .def("run", [](py::object self, const py::object& callback, std::int64_t every, std::optional<std::int64_t> clusters,
                      std::optional<double> time, std::optional<double> wall_seconds) {
         return self.cast<S&>().run(self, callback, every, clusters, time, wall_seconds);
       }, py::arg("callback") = py::none(), py::arg("every") = 1, py::arg("clusters") = py::none(),

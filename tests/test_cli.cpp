@@ -392,6 +392,33 @@ TEST_F(Cli, InputCsvGluedClusterWithDisagreeingVelocitiesNamesTheLine) {
                    path("out"), {path("in.csv").string() + ":4", path("in.csv").string() + ":3", "glued"});
 }
 
+TEST_F(Cli, InputCsvWithTwoIdenticalRowsInOneClusterNamesBothLines) {
+  // Glued spheres never collide, but they overlap all the same: verify would report it.
+  write(path("in.csv"),
+        "x,y,vx,vy,radius,mass,cluster\n"
+        "1,1,0.1,0,0.5,1,0\n"
+        "5,5,0,0.1,0.5,1,1\n"
+        "1,1,0.1,0,0.5,1,0\n");
+  expect_bad_input({"run", "--set", "initial.positions=file", "--set", "initial.file=" + path("in.csv").string(),
+                    "--set", "system.box_length=10", "--out", path("out").string()},
+                   path("out"), {path("in.csv").string() + ":2", "line 4", "same cluster", "overlap"});
+}
+
+TEST_F(Cli, InputCsvClusterWhoseSpheresDoNotTouchNamesBothLines) {
+  for (const std::string engine : {"ed", "rigid-body", "ts"}) {
+    write(path("in.csv"),
+          "x,y,z,vx,vy,vz,radius,mass,cluster\n"
+          "1,1,1,0.1,0,0,0.5,1,7\n"
+          "2,1,1,0.1,0,0,0.5,1,7\n"
+          "5,5,5,0,0,0,0.5,1,8\n"
+          "4,1,1,0.1,0,0,0.5,1,7\n");
+    expect_bad_input({"run", "--set", "system.dimension=3", "--set", "engine.kind=" + engine, "--set",
+                      "initial.positions=file", "--set", "initial.file=" + path("in.csv").string(), "--set",
+                      "system.box_length=10", "--set", "stop.time=1", "--out", path("out").string()},
+                     path("out"), {path("in.csv").string() + ":5", "line 2", "cluster 7", "touch"});
+  }
+}
+
 TEST_F(Cli, InputCsvWithABadFieldNamesTheLine) {
   write(path("in.csv"), "x,y,vx,vy,radius,mass\n1,1,0,0,0.5,1\n3,3,0,zero,0.5,1\n");
   expect_bad_input({"run", "--set", "initial.positions=file", "--set", "initial.file=" + path("in.csv").string(),

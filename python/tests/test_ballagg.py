@@ -90,6 +90,60 @@ def test_callback_returning_false_stops_the_run_and_run_continues():
     assert sim.run(clusters=100)["stop_reason"] == "clusters" and sim.n_clusters == 100
 
 
+def test_run_from_its_own_callback_raises_and_the_simulation_goes_on():
+    sim = ballagg.Simulation({"system": {"n": 100}})
+    errors = []
+
+    def reenter(s):
+        try:
+            s.run(time=1.0)
+        except RuntimeError as e:
+            errors.append(str(e))
+        return False
+
+    assert sim.run(reenter)["stop_reason"] == "callback"
+    assert len(errors) == 1 and "from its callback" in errors[0]
+    # Uncaught, the error ends the outer run; the simulation is still usable.
+    with pytest.raises(RuntimeError, match="from its callback"):
+        sim.run(lambda s: s.run(time=1.0))
+    assert sim.run()["stop_reason"] == "clusters" and sim.n_clusters == 1
+
+
+@pytest.mark.parametrize("argument, value", [
+    ("clusters", 0), ("clusters", -5), ("time", math.nan), ("time", -1.0), ("time", 0.0), ("time", -math.inf),
+    ("wall_seconds", math.nan), ("wall_seconds", -1.0), ("wall_seconds", 0.0)])
+def test_run_refuses_the_stop_values_the_configuration_refuses(argument, value):
+    sim = ballagg.Simulation({"system": {"n": 100}})
+    with pytest.raises(ballagg.InputError) as python_error:
+        sim.run(**{argument: value})
+    with pytest.raises(ballagg.InputError) as config_error:
+        ballagg.Config({"stop": {argument: value}})
+    # The same rule and the same words, naming the Python argument.
+    python_message, config_message = str(python_error.value), str(config_error.value)
+    assert python_message.startswith(f"Simulation.run argument {argument} = ")
+    assert python_message.split(": ")[-1] == config_message.split(": ")[-1]
+    assert sim.time == 0.0 and sim.n_clusters == 100  # nothing ran
+
+
+def test_state_file_with_overlapping_or_disconnected_glued_spheres_is_refused(tmp_path):
+    def simulation_of(rows):
+        path = tmp_path / "in.csv"
+        path.write_text("x,y,vx,vy,radius,mass,cluster\n" + rows)
+        return ballagg.Simulation({"system": {"box_length": 10.0},
+                                   "initial": {"positions": "file", "file": str(path)}})
+
+    assert simulation_of("1,1,0,0,0.5,1,0\n2,1,0,0,0.5,1,0\n").n_clusters == 1
+    with pytest.raises(ballagg.InputError, match=r"in.csv:2: this sphere overlaps the sphere of line 3"):
+        simulation_of("1,1,0,0,0.5,1,0\n1,1,0,0,0.5,1,0\n")
+    with pytest.raises(ballagg.InputError, match=r"in.csv:3: this sphere of cluster 0 is not joined"):
+        simulation_of("1,1,0,0,0.5,1,0\n3,1,0,0,0.5,1,0\n")
+
+
+def test_run_accepts_an_unlimited_time():
+    sim = ballagg.Simulation(small())
+    assert sim.run(time=math.inf, wall_seconds=math.inf, clusters=150)["stop_reason"] == "clusters"
+
+
 def test_time_stepping_engine_with_a_callback_every_step():
     sim = ballagg.Simulation(small(engine={"kind": "ts"}, stop={"clusters": 50}))
     steps = []

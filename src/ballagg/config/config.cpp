@@ -150,6 +150,12 @@ class SectionReader {
     throw InputError(fmt::format("{}: {}.{} = {}: {}", where(node, key), section_, key, value.str(), allowed));
   }
 
+  // "<where>: section.key", the name an error about the value of key gives it.
+  std::string name_of(const std::string& key) {
+    const toml::node* node = find(key);
+    return node == nullptr ? section_ + "." + key : fmt::format("{}: {}.{}", where(*node, key), section_, key);
+  }
+
   std::string where(const toml::node& node, const std::string& key) const {
     if (overridden_.count(section_ + "." + key)) return "--set " + section_ + "." + key;
     if (node.source().begin.line > 0) return fmt::format("{}:{}", source_, node.source().begin.line);
@@ -384,11 +390,22 @@ Config read_config(const toml::table& root, const std::string& source, const std
   c.ts = read_ts_section(root, source, overridden);
 
   SectionReader stop(root, "stop", source, overridden);
-  if (auto v = stop.integer("clusters", 1, std::numeric_limits<std::int64_t>::max(), "must be an integer >= 1"))
+  // The reader refuses values of another type; the range is check_stop_*'s, which
+  // Python's Simulation.run applies too.
+  const auto any_number = [](double) { return true; };
+  if (auto v = stop.integer("clusters", std::numeric_limits<std::int64_t>::min(), std::numeric_limits<std::int64_t>::max(),
+                            std::string(kStopClustersAllowed))) {
+    check_stop_clusters(*v, stop.name_of("clusters"));
     c.stop.clusters = *v;
-  if (auto v = stop.real("time", positive, "must be a number > 0 (inf for no limit)", true)) c.stop.time = *v;
-  if (auto v = stop.real("wall_seconds", positive, "must be a number > 0 (inf for no limit)", true))
+  }
+  if (auto v = stop.real("time", any_number, std::string(kStopDurationAllowed), true)) {
+    check_stop_duration(*v, stop.name_of("time"));
+    c.stop.time = *v;
+  }
+  if (auto v = stop.real("wall_seconds", any_number, std::string(kStopDurationAllowed), true)) {
+    check_stop_duration(*v, stop.name_of("wall_seconds"));
     c.stop.wall_seconds = *v;
+  }
   c.stop.aggregated_fraction = stop.real("aggregated_fraction", [](double v) { return v > 0.0 && v <= 1.0; },
                                          "must be a number in (0, 1]");
   stop.reject_unknown_keys();
@@ -495,6 +512,14 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
   if (!c.initial.file.empty() && !from_set && file.is_relative())
     c.initial.file = (std::filesystem::path(path).parent_path() / file).lexically_normal().string();
   return c;
+}
+
+void check_stop_clusters(std::int64_t clusters, std::string_view name) {
+  if (clusters < 1) throw InputError(fmt::format("{} = {}: {}", name, clusters, kStopClustersAllowed));
+}
+
+void check_stop_duration(double value, std::string_view name) {
+  if (!(value > 0.0)) throw InputError(fmt::format("{} = {}: {}", name, value, kStopDurationAllowed));
 }
 
 double resolved_box_length(const Config& c) {

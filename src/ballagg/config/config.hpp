@@ -7,6 +7,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "ballagg/engines/engine.hpp"
@@ -111,6 +112,14 @@ Config parse_config_text(std::string_view text, const std::string& source_name,
 // (toml++ would overflow its stack on a key tens of thousands of parts deep). Called
 // before every toml::parse of a user's file.
 void refuse_deeply_dotted_toml(std::string_view text, const std::string& source_name);
+
+// The values the stop criteria accept: one rule for every way of giving them, [stop] of a
+// configuration file or --set, and Python's Simulation.run(clusters=, time=,
+// wall_seconds=). Each throws InputError "<name> = <value>: <what is allowed>".
+inline constexpr std::string_view kStopClustersAllowed = "must be an integer >= 1";
+inline constexpr std::string_view kStopDurationAllowed = "must be a number > 0 (inf for no limit)";
+void check_stop_clusters(std::int64_t clusters, std::string_view name);
+void check_stop_duration(double value, std::string_view name);  // stop.time, stop.wall_seconds
 
 // The box length: given, or from the volume fraction (2D: L = sqrt(N pi R^2 / Vf),
 // 3D: L = cbrt(N 4/3 pi R^3 / Vf)).

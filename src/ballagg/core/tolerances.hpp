@@ -21,8 +21,9 @@ inline constexpr double kApproach = 1e-12;
 // infinitely often, so that velocity component is set to zero ("pinned", docs/model.md).
 inline constexpr double kWallPinGap = 1e-9;
 
-// Spheres read from an input file may overlap by at most this fraction of sigma: files
-// written by ballagg itself contain contacts at sigma * (1 +- 1e-15).
+// Spheres read from an input file may overlap by at most this fraction of sigma, glued
+// into one cluster or not (the time-stepping engine allows glued spheres its ts.eps_c):
+// files written by ballagg itself contain contacts at sigma * (1 +- 1e-15).
 inline constexpr double kInputOverlap = 1e-9;
 
 // Spheres glued into one cluster in an input file must have the same velocity up to this

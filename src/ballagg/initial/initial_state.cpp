@@ -12,6 +12,7 @@
 
 #include "ballagg/core/random.hpp"
 #include "ballagg/core/tolerances.hpp"
+#include "ballagg/initial/sphere_layout_check.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
 
 namespace ballagg {
@@ -202,6 +203,26 @@ std::vector<Vec<D>> body_positions(const Box<D>& box, const SphereTable<D>& t,
   return body;
 }
 
+// The rigid-body engine follows every body's centre of mass on its unwrapped trajectory,
+// from wherever the state puts it (assemble_state picks, cluster by cluster, the image whose
+// lowest point lies in [-L/2, L/2)). Moving each body by whole box lengths so that its
+// centre of mass lies in the box makes these trajectories one picture of the system:
+// bodies that meet inside the box meet there in the engine's coordinates too, and the
+// orbital angular momentum about the box centre is that of the state as the file gives it
+// (docs/rigid_body.md). Folded positions are unchanged.
+template <int D>
+void put_centres_of_mass_in_box(State<D>& s) {
+  if (!s.box.periodic()) return;
+  const double l = s.box.length;
+  for (int c : s.alive_clusters()) {
+    Cluster<D>& k = s.clusters[c];
+    Vec<D> centre = Vec<D>::Zero();
+    for (int i : k.members) centre += s.spheres.mass[i] * s.spheres.offset[i];
+    centre = k.anchor + centre / k.mass;
+    for (int a = 0; a < D; ++a) k.anchor[a] -= l * floor_to_integer(centre[a] / l);
+  }
+}
+
 }  // namespace
 
 template <int D>
@@ -327,6 +348,7 @@ State<D> make_initial_state(const Config& c) {
     table.mass.assign(c.system.n, c.system.mass);
   }
   State<D> s = assemble_state(box, table);
+  if (c.initial.positions == InitialPositions::file) check_sphere_layout(box, table, layout_tolerance(c));
   if (c.engine.kind != EngineKind::rigid_body) {
     for (std::size_t i = 0; i < table.spin.size(); ++i)
       if (table.spin[i] != Spin<D>::Zero())
@@ -340,6 +362,7 @@ State<D> make_initial_state(const Config& c) {
     for (int k = 0; k < static_cast<int>(s.clusters.size()); ++k)
       if (s.clusters[k].alive()) s.set_velocity(k, s.clusters[k].velocity - mean, 0.0);
   }
+  if (c.engine.kind == EngineKind::rigid_body) put_centres_of_mass_in_box(s);
   return s;
 }
 
