@@ -168,7 +168,7 @@ TEST(Stopping, SigtermDuringOutputWithoutEndEndsWithACheckpoint) {
 // uninterrupted run's, byte for byte).
 TEST(Stopping, RunInterruptedWhileWritingRowsResumesIdentically) {
   TempDir tmp;
-  const std::vector<std::string> sets{"system.n=20", "system.volume_fraction=0.01", "stop.time=3",
+  const std::vector<std::string> sets{"system.n=20", "system.volume_fraction=0.01", "stop.time=1.5",
                                       "output.timeseries_interval=1e-5", "output.checkpoint_every=0"};
   ASSERT_EQ(run_ballagg(run_args(tmp / "ref", sets), tmp.path()).status, 0);
   const fs::path run = tmp / "run";
