@@ -2,9 +2,16 @@
 // Running the ballagg binary from a test: each argument quoted for the shell, its status,
 // stdout and stderr captured; a run that hangs is killed after a minute (status 124).
 // Used by test_cli, test_sweep, test_snapshots and test_render.
+#include <fcntl.h>
+#include <spawn.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <cstdlib>
+#include <functional>
+#include <thread>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -56,6 +63,51 @@ inline Outcome run_ballagg(const std::vector<std::string>& args, const std::file
   std::filesystem::remove(out);
   std::filesystem::remove(err);
   return o;
+}
+
+// Starts the binary with `args` in the background, stdout and stderr to `log`, for a test
+// that signals it. Returns its process id (-1 if it could not start).
+inline pid_t start_ballagg(const std::vector<std::string>& args, const std::filesystem::path& log) {
+  std::vector<std::string> all{BALLAGG_BINARY};
+  all.insert(all.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : all) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t files;
+  posix_spawn_file_actions_init(&files);
+  posix_spawn_file_actions_addopen(&files, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_adddup2(&files, STDOUT_FILENO, STDERR_FILENO);
+  posix_spawn_file_actions_addopen(&files, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  pid_t pid = -1;
+  if (posix_spawn(&pid, all[0].c_str(), &files, nullptr, argv.data(), environ) != 0) pid = -1;
+  posix_spawn_file_actions_destroy(&files);
+  return pid;
+}
+
+// Its exit status, or 128 + N if signal N ended it. A process still running after
+// `seconds` is killed (SIGKILL: status 137).
+inline int exit_status(pid_t pid, double seconds = 60.0) {
+  int status = 0;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (std::chrono::steady_clock::now() > end) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &status, 0);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+}
+
+// Polls `ready` every 200 us for at most `seconds`; returns whether it became true.
+inline bool wait_until(const std::function<bool()>& ready, double seconds) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
+  while (!ready()) {
+    if (std::chrono::steady_clock::now() > end) return false;
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+  }
+  return true;
 }
 
 }  // namespace ballagg::testing

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include "ballagg/run/checkpointer.hpp"
+
 namespace ballagg::cli {
 
 void add_sweep_command(CLI::App& app, SweepCommand& s) {
@@ -23,10 +25,24 @@ int run_sweep_command(SweepCommand& s) {
   const Communicator world;
   const SweepSpec spec = load_sweep(s.file);
   if (s.options.out_dir.empty()) s.options.out_dir = (std::filesystem::path("out") / std::filesystem::path(s.file).stem()).string();
+  // Signals stop the runs under way, and the sweep after writing its tables (sweep_runner.hpp).
+  const InterruptFlag interrupts;
   const SweepOutcome outcome = run_sweep(spec, s.options, world);
+  const std::string tables = (std::filesystem::path(s.options.out_dir) / "sweep.csv").string();
+  if (outcome.signal != 0) {
+    if (world.rank() == 0) {
+      const long long done = outcome.ran + outcome.skipped;
+      fmt::print(stderr,
+                 "ballagg: sweep interrupted by {}: {} of {} runs done ({} in this session), {} failed; tables of the "
+                 "runs done in {}; continue with: ballagg sweep {} --out {} --resume\n",
+                 signal_name(outcome.signal), done, outcome.total, outcome.ran, outcome.failed, tables, s.file,
+                 s.options.out_dir);
+    }
+    return 128 + outcome.signal;
+  }
   if (world.rank() == 0) {
     fmt::print("sweep: {} runs done, {} already finished, {} failed; tables in {}\n", outcome.ran, outcome.skipped,
-               outcome.failed, (std::filesystem::path(s.options.out_dir) / "sweep.csv").string());
+               outcome.failed, tables);
   }
   return outcome.failed > 0 ? 1 : 0;
 }

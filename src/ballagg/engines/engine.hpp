@@ -8,6 +8,7 @@
 #include <string>
 #include <string_view>
 
+#include "ballagg/core/run_guard.hpp"
 #include "ballagg/core/state.hpp"
 
 namespace ballagg {
@@ -32,11 +33,23 @@ struct StopCriteria {
   // Rigid-body engine: stop once this fraction of the mass is in bodies of two or more
   // spheres (or merged spheres); above 1: never.
   double aggregated_fraction = std::numeric_limits<double>::infinity();
+  // The run's guard (core/run_guard.hpp), shared with the recorders that poll it; its clock
+  // then bounds the run instead of wall_seconds. Null: the engine keeps its own, from
+  // wall_seconds.
+  RunGuard* guard = nullptr;
 };
 
 // aggregated: stop.aggregated_fraction reached; body_spans_box: a rigid body became as
-// large as the periodic box and could touch its own image (rigid-body engine).
-enum class StopReason { clusters, time, wall_seconds, no_more_events, no_collision_possible, aggregated, body_spans_box };
+// large as the periodic box and could touch its own image (rigid-body engine);
+// output_limit: a recorder reached its row or frame cap (docs/hardening.md); interrupted:
+// a signal, and no observer wrote a checkpoint and ended the run (the caller then ends
+// it without its normal files).
+enum class StopReason {
+  clusters, time, wall_seconds, no_more_events, no_collision_possible, aggregated, body_spans_box, output_limit,
+  interrupted
+};
+// The reason a run stopped by its guard gives.
+StopReason stop_reason_of(StopCause cause);
 std::string_view to_string(StopReason r);
 
 // contact_search: the rigid-body engine resumes the search for the first contact of two

@@ -12,6 +12,7 @@
 namespace ballagg {
 
 AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temporary_(temporary_path_for(path_)) {
+  registered_.hold(temporary_);
   fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd_ < 0) fail(errno);
 }
@@ -47,6 +48,7 @@ void AtomicFile::commit() {
   if (::close(fd) != 0) fail(errno);
   if (std::rename(temporary_.c_str(), path_.c_str()) != 0) fail(errno);
   temporary_.clear();  // it is the file now
+  registered_.release();
 }
 
 void AtomicFile::fail(int error) {

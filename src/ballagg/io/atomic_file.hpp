@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "ballagg/io/output_error.hpp"
+#include "ballagg/io/temporary_files.hpp"
 
 namespace ballagg {
 
@@ -31,7 +32,10 @@ class AtomicFile {
   // Closes the file and renames it to its path.
   void commit();
   // The destructor leaves the temporary file (a checkpoint refers to it).
-  void keep() { keep_ = true; }
+  void keep() {
+    keep_ = true;
+    registered_.release();
+  }
 
   const std::string& path() const { return path_; }
   const std::string& temporary() const { return temporary_; }
@@ -42,6 +46,7 @@ class AtomicFile {
   std::string path_, temporary_;
   int fd_ = -1;
   bool keep_ = false;
+  UnreferencedTemporary registered_;  // until committed or kept: a forced quit removes it
 };
 
 }  // namespace ballagg

@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "ballagg/core/run_guard.hpp"
 #include "ballagg/io/atomic_file.hpp"
 #include "ballagg/io/byte_stream.hpp"
 
@@ -117,6 +118,7 @@ Checkpoint read_checkpoint_file(const std::string& dir) {
 }
 
 void write_checkpoint_file(const std::string& dir, const Checkpoint& checkpoint) {
+  const CriticalWrite not_to_be_cut;  // a forced quit waits for the rename
   AtomicFile file((fs::path(dir) / kCheckpointFile).string());
   emit_checkpoint(checkpoint, [&](const char* data, std::size_t n) { file.write({data, n}); });
   file.sync();

@@ -12,6 +12,7 @@
 
 #include "ballagg/config/config.hpp"
 #include "ballagg/io/hdf5_handle.hpp"
+#include "ballagg/io/temporary_files.hpp"
 #include "ballagg/io/output_dir.hpp"
 #include "ballagg/io/output_error.hpp"
 #include "ballagg/version.hpp"
@@ -80,6 +81,7 @@ struct H5mdWriter<D>::Impl {
   bool periodic = false;
   SnapshotPrecision precision = SnapshotPrecision::single;
   bool keep = false;  // a checkpoint refers to the temporary file
+  UnreferencedTemporary registered;  // until kept or renamed: a forced quit removes it
   std::unique_ptr<Series> step, time, position, image, velocity, cluster, clusters, largest, energy;
   std::size_t unreleased_bytes = 0;  // frame data written since the last release_written_pages
   Block<D, float> single_block;
@@ -94,6 +96,7 @@ struct H5mdWriter<D>::Impl {
     hdf5::quiet_errors();
     target = path;
     temporary = temporary_path_for(path);
+    registered.hold(temporary.string());
     try {
       create(p, config_toml);
     } catch (...) {
@@ -216,6 +219,7 @@ struct H5mdWriter<D>::Impl {
   std::uint64_t flush() {
     check(H5Fflush(file, H5F_SCOPE_GLOBAL), "flush");
     keep = true;
+    registered.release();
     return step->records();
   }
 
@@ -338,6 +342,7 @@ struct H5mdWriter<D>::Impl {
       throw OutputError(fmt::format("{}: cannot write: closing the HDF5 file failed (disk full?)", target.string()));
     }
     rename_into_place(temporary.string(), target.string());
+    registered.release();
   }
 };
 

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "ballagg/core/run_guard.hpp"
 #include "ballagg/config/config.hpp"
 #include "ballagg/io/atomic_file.hpp"
 
@@ -69,6 +70,7 @@ void reclaim_completed_file(const std::string& path) {
 }
 
 void write_file_atomically(const std::string& dir, const std::string& name, const std::string& content) {
+  const CriticalWrite not_to_be_cut;  // a forced quit waits for the rename
   AtomicFile file((fs::path(dir) / name).string());
   file.write(content);
   file.commit();

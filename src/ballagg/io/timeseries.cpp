@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 
+#include "ballagg/config/config.hpp"
 #include "ballagg/io/byte_stream.hpp"
 
 namespace ballagg {
@@ -34,8 +35,10 @@ void TimeseriesRecorder<D>::schedule_drop(int clusters) {
 
 template <int D>
 void TimeseriesRecorder<D>::before_event(const State<D>& s, double t) {
-  // Rows at sample times before this event describe the state as it still is.
+  // Rows at sample times before this event describe the state as it still is. Cut short
+  // when the run must stop: the engine then leaves the event for later, or ends the run.
   while (interval_ > 0.0 && next_sample_ < t) {
+    if (guard_ != nullptr && guard_->poll()) return;
     row(s, next_sample_);
     next_sample_ += interval_;
   }
@@ -99,6 +102,7 @@ void TimeseriesRecorder<D>::row(const State<D>& s, double t) {
   last_row_time_ = t;
   last_row_events_ = events_;
   schedule_drop(s.n_clusters());
+  if (++rows_ >= kMaxRows && guard_ != nullptr) guard_->stop(StopCause::output_limit);
 }
 
 template <int D>
@@ -127,7 +131,18 @@ void TimeseriesRecorder<D>::restore(std::string_view saved) {
   collisions_ = r.get<std::int64_t>("collisions");
   csv_ = r.get_string("rows");
   r.expect_end();
+  rows_ = std::count(csv_.begin(), csv_.end(), '\n') - 1;  // the header is no row
   resumed_ = true;
+}
+
+void check_timeseries_rows(double interval, double start_time, double stop_time) {
+  if (!(interval > 0.0) || !std::isfinite(stop_time)) return;
+  const double rows = (stop_time - start_time) / interval;
+  constexpr std::int64_t limit = TimeseriesRecorder<2>::kMaxIntervalRows;
+  if (rows > static_cast<double>(limit))
+    throw InputError(fmt::format("output.timeseries_interval = {}: {:.3g} rows from t = {} to stop.time = {}; at most {} "
+                                 "are allowed (use a larger interval)",
+                                 interval, rows, start_time, stop_time, limit));
 }
 
 template class TimeseriesRecorder<2>;

@@ -8,6 +8,13 @@
 // With rotating bodies (rigid-body engine) each row also has the first-time collisions
 // N_C1, the largest body mass, the velocity dispersion of the bodies along each axis, the
 // rotational kinetic energy and the total angular momentum (docs/outputs.md).
+//
+// output.timeseries_interval can ask for far more rows than that. A run whose stop.time
+// would give more than kMaxIntervalRows rows at that interval is refused before it starts
+// (check_timeseries_rows); a run without a finite stop.time that reaches kMaxRows rows
+// ends there (stop_reason output_limit). The rows due before one event poll the run's guard
+// (core/run_guard.hpp), so that neither the wall-clock limit nor a signal waits for them.
+#include <cstdint>
 #include <string>
 #include <string_view>
 
@@ -19,8 +26,17 @@ template <int D>
 class TimeseriesRecorder final : public RunObserver<D> {
  public:
   static constexpr double kRowDrop = 0.005;
+  // About 100 MB of text (up to 150 bytes a row with the rotating bodies' columns), held
+  // in memory and in every checkpoint; 350 times the rows of a default run of a million
+  // spheres.
+  static constexpr std::int64_t kMaxIntervalRows = 1'000'000;
+  // The cap on all rows leaves room for those at drops of the cluster count (about 200 per
+  // e-fold: fewer than 5000 for a billion spheres).
+  static constexpr std::int64_t kMaxRows = kMaxIntervalRows + 10'000;
 
-  explicit TimeseriesRecorder(double interval, bool rotating = false) : interval_(interval), rotating_(rotating) {}
+  // guard: the run's, polled between rows and stopped at the cap (null: neither).
+  explicit TimeseriesRecorder(double interval, bool rotating = false, RunGuard* guard = nullptr)
+      : interval_(interval), rotating_(rotating), guard_(guard) {}
 
   void on_start(const State<D>& s) override;
   void before_event(const State<D>& s, double t) override;
@@ -41,6 +57,8 @@ class TimeseriesRecorder final : public RunObserver<D> {
 
   double interval_;
   bool rotating_;
+  RunGuard* guard_;
+  std::int64_t rows_ = 0;
   double next_sample_ = 0.0;
   int next_drop_ = 0;
   double last_row_time_ = -1.0;
@@ -49,5 +67,9 @@ class TimeseriesRecorder final : public RunObserver<D> {
   std::string csv_;
   bool resumed_ = false;
 };
+
+// Throws InputError naming output.timeseries_interval when a run from `start_time` to
+// stop.time would take more than TimeseriesRecorder's kMaxIntervalRows rows at that interval.
+void check_timeseries_rows(double interval, double start_time, double stop_time);
 
 }  // namespace ballagg

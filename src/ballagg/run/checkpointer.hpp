@@ -1,10 +1,12 @@
 #pragma once
 // Checkpoints during a run (docs/checkpoints.md): every output.checkpoint_every wall
-// seconds, and at SIGINT or SIGTERM, after which the run ends by throwing RunInterrupted
-// (the command line prints how to resume and exits with 128 + the signal's number).
+// seconds, and at SIGINT, SIGTERM or SIGHUP, after which the run ends by throwing
+// RunInterrupted (the command line prints how to resume and exits with 128 + the signal's
+// number).
 #include <chrono>
 #include <csignal>
 #include <functional>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -13,7 +15,8 @@
 
 namespace ballagg {
 
-// The run was stopped by a signal after a checkpoint was written.
+// The run was stopped by a signal: after a checkpoint was written, or (a run without
+// checkpoints) without its files.
 class RunInterrupted : public std::runtime_error {
  public:
   RunInterrupted(int signal, const std::string& message) : std::runtime_error(message), signal_(signal) {}
@@ -23,9 +26,12 @@ class RunInterrupted : public std::runtime_error {
   int signal_;
 };
 
-// While alive, SIGINT and SIGTERM only raise a flag that Checkpointer polls; the previous
-// handlers come back at destruction. A second signal of the same kind acts as it would
-// have without us (a run that does not reach a checkpoint point can still be stopped).
+// While alive, SIGINT, SIGTERM and SIGHUP (a closed terminal) only ask the run to stop
+// (request_stop_by_signal: every loop polls it through its RunGuard); the previous
+// handlers come back at destruction. A second one of these signals quits at once, as a
+// user who presses Ctrl-C again expects of a program that does not stop, but never in the
+// middle of writing a checkpoint or an output file (CriticalWrite: it quits when that
+// write is complete), and removes the temporary files no checkpoint refers to first.
 class InterruptFlag {
  public:
   InterruptFlag();
@@ -36,8 +42,12 @@ class InterruptFlag {
   static int received();
 
  private:
-  struct sigaction previous_int_{}, previous_term_{};
+  static constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
+  struct sigaction previous_[std::size(kSignals)]{};
 };
+
+// "SIGINT", "SIGTERM", "SIGHUP", or "signal N".
+std::string signal_name(int signal);
 
 template <int D>
 class Checkpointer final : public RunObserver<D> {
@@ -45,8 +55,8 @@ class Checkpointer final : public RunObserver<D> {
   // compose(state, engine_state, wall seconds of this segment) gathers the checkpoint.
   using Compose = std::function<Checkpoint(const State<D>&, const std::string&, double)>;
   // every: wall seconds between checkpoints (0: at signals only); `signals`: whether to
-  // act on InterruptFlag::received().
-  Checkpointer(std::string dir, double every, bool signals, Compose compose);
+  // act on a signal (InterruptFlag); guard: the run's (whether a step was cut short).
+  Checkpointer(std::string dir, double every, bool signals, Compose compose, const RunGuard* guard = nullptr);
 
   bool checkpoint_due() override;
   void on_checkpoint(const State<D>& s, const EngineCounters& c, const std::string& engine_state) override;
@@ -61,6 +71,7 @@ class Checkpointer final : public RunObserver<D> {
   double every_;
   bool signals_;
   Compose compose_;
+  const RunGuard* guard_;
   clock::time_point started_ = clock::now();
   double next_ = 0.0;
   int written_ = 0;

@@ -259,26 +259,35 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
     stop.wall_seconds -= earlier_seconds;  // stop.wall_seconds bounds the whole run
   }
 
+  if (!resume) {
+    check_timeseries_rows(config.output.timeseries_interval, state.time, config.stop.time);
+    check_snapshot_frames(config.output.snapshot_every, state.time, config.stop.time);
+  }
+
+  // Signals are heard from here on: everything is checked, and nothing written yet.
+  std::optional<InterruptFlag> interrupts;
+  if (options.checkpoint_on_signals) interrupts.emplace();
   const std::string dir = options.out_dir.empty() ? default_output_dir() : options.out_dir;
   const bool created = !resume && prepare_output_dir(dir);
 
+  // Polled by the engine and the recorders: the wall-clock limit, signals, output caps.
+  RunGuard guard(stop.wall_seconds);
+  stop.guard = &guard;
   const Totals<D> initial = resume ? Totals<D>(resume->totals) : Totals<D>(state);
   const bool rigid = config.engine.kind == EngineKind::rigid_body;
-  TimeseriesRecorder<D> timeseries(config.output.timeseries_interval, rigid);
+  TimeseriesRecorder<D> timeseries(config.output.timeseries_interval, rigid, &guard);
   if (resume) timeseries.restore(resume->timeseries);
   ProgressReporter<D> progress(stderr, options.progress_on_terminal && isatty(STDERR_FILENO), stop);
   ObserverList<D> observers;
   observers.add(&timeseries);
   std::optional<std::string_view> saved_snapshots;
   if (resume && !resume->snapshots.empty()) saved_snapshots = resume->snapshots;
-  const std::unique_ptr<SnapshotRecorder<D>> snapshots = make_snapshot_recorder(config, state, dir, saved_snapshots);
+  std::unique_ptr<SnapshotRecorder<D>> snapshots = make_snapshot_recorder(config, state, dir, saved_snapshots, &guard);
   if (snapshots) observers.add(snapshots.get());
   if (!options.quiet) observers.add(&progress);
 
-  std::optional<InterruptFlag> interrupts;
   std::optional<Checkpointer<D>> checkpointer;
   if (engine->supports_checkpoints()) {
-    if (options.checkpoint_on_signals) interrupts.emplace();
     const std::string config_toml = to_toml_text(config);
     const std::string engine_name(engine->name());
     checkpointer.emplace(dir, config.output.checkpoint_every, interrupts.has_value(),
@@ -295,11 +304,12 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
       c.timeseries = timeseries.save();
       if (snapshots) c.snapshots = snapshots->save();
       return c;
-    });
+    }, &guard);
     observers.add(&*checkpointer);
   }
   RunResult result;
   try {
+    guard.start_clock();
     result = engine->run(state, stop, observers);
   } catch (const InputError&) {
     // Bad input found during the run (coefficients that would create energy): leave
@@ -308,7 +318,25 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
     if (created) std::filesystem::remove(dir, ec);
     throw;
   }
+  if (result.reason == StopReason::interrupted) {
+    // A signal, and no checkpoint of it (a run inside a sweep): nothing of this run is
+    // written; its trajectories' temporary files go unless an earlier checkpoint refers to them.
+    snapshots.reset();
+    std::error_code ec;
+    const bool resumable = std::filesystem::exists(std::filesystem::path(dir) / kCheckpointFile, ec);
+    if (created && !resumable) std::filesystem::remove(dir, ec);
+    throw RunInterrupted(stop_signal(), fmt::format("interrupted by {} at t = {}: {}", signal_name(stop_signal()), state.time,
+                                                    resumable ? fmt::format("continue from its last checkpoint with: "
+                                                                            "ballagg run --resume {}", dir)
+                                                              : std::string("the run's files were not written")));
+  }
   result.wall_seconds += earlier_seconds;
+  if (result.reason == StopReason::output_limit && !options.quiet)
+    fmt::print(stderr,
+               "ballagg: the run stopped at t = {} with as many rows or frames as are written (at most {} rows of "
+               "timeseries.csv, {} trajectory frames): set a larger output.timeseries_interval or "
+               "output.snapshot_every, or a stop.time\n",
+               state.time, TimeseriesRecorder<D>::kMaxRows, SnapshotRecorder<D>::kMaxFrames + 2);
 
   const std::string final_csv = state_csv_text(state);
   write_file_atomically(dir, "final.csv", final_csv);

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <filesystem>
 
+#include <fmt/format.h>
+
 #include "ballagg/io/byte_stream.hpp"
 #include "ballagg/io/h5md_writer.hpp"
 #include "ballagg/io/xyz_trajectory_writer.hpp"
@@ -11,8 +13,8 @@ namespace ballagg {
 
 template <int D>
 SnapshotRecorder<D>::SnapshotRecorder(double every, std::vector<std::unique_ptr<FrameSink<D>>> sinks,
-                                      bool mirror_at_walls)
-    : every_(every), writer_(std::move(sinks)), mirror_at_walls_(mirror_at_walls) {}
+                                      bool mirror_at_walls, RunGuard* guard)
+    : every_(every), writer_(std::move(sinks)), mirror_at_walls_(mirror_at_walls), guard_(guard) {}
 
 template <int D>
 void SnapshotRecorder<D>::take(const State<D>& s, double t) {
@@ -21,6 +23,9 @@ void SnapshotRecorder<D>::take(const State<D>& s, double t) {
   ++frames_;
   last_time_ = t;
   last_events_ = events_;
+  // The initial frame, kMaxFrames at the interval, and one more: a run that check_snapshot_frames
+  // let through never gets here.
+  if (guard_ != nullptr && frames_ >= kMaxFrames + 2) guard_->stop(StopCause::output_limit);
 }
 
 template <int D>
@@ -35,8 +40,13 @@ void SnapshotRecorder<D>::before_event(const State<D>& s, double t) {
   // Frames due before the event describe the state as it still is. A frame due at the
   // very instant of an event (or of the end of a time step) is taken here at the next
   // call, or by on_finish: it shows the state after the event (the state a step resolved).
-  for (; next_time() < t; ++next_k_)
-    if (next_time() >= s.time) take(s, next_time());
+  // Cut short when the run must stop: the engine then leaves the event for later, or ends
+  // the run. A frame can be long (a million spheres): the clock is read before each.
+  for (; next_time() < t; ++next_k_) {
+    if (next_time() < s.time) continue;
+    if (guard_ != nullptr && guard_->check()) return;
+    take(s, next_time());
+  }
 }
 
 template <int D>
@@ -46,6 +56,9 @@ void SnapshotRecorder<D>::after_event(const State<D>&, const EventRecord&, const
 
 template <int D>
 void SnapshotRecorder<D>::on_finish(const State<D>& s, const RunResult& r) {
+  // A run stopped by a signal without a checkpoint of it is abandoned: its files are not
+  // completed, and the temporary ones go with the writer (unless a checkpoint refers to them).
+  if (r.reason == StopReason::interrupted) return;
   events_ = r.counters.events;
   // The final state, unless the last frame already is it (no event since, same time).
   if (s.time != last_time_ || events_ != last_events_) take(s, s.time);
@@ -88,7 +101,7 @@ void SnapshotRecorder<D>::restore(std::string_view saved) {
 template <int D>
 std::unique_ptr<SnapshotRecorder<D>> make_snapshot_recorder(const Config& c, const State<D>& initial,
                                                             const std::string& dir,
-                                                            std::optional<std::string_view> saved) {
+                                                            std::optional<std::string_view> saved, RunGuard* guard) {
   if (c.output.snapshot_every <= 0.0) return nullptr;
   const Particles<D> particles = particles_of(initial);
   std::vector<std::uint64_t> marks;
@@ -111,16 +124,26 @@ std::unique_ptr<SnapshotRecorder<D>> make_snapshot_recorder(const Config& c, con
     }
   }
   auto recorder = std::make_unique<SnapshotRecorder<D>>(c.output.snapshot_every, std::move(sinks),
-                                                        c.engine.kind == EngineKind::ts);
+                                                        c.engine.kind == EngineKind::ts, guard);
   if (saved) recorder->restore(*saved);
   return recorder;
+}
+
+void check_snapshot_frames(double every, double start_time, double stop_time) {
+  if (!(every > 0.0) || !std::isfinite(stop_time)) return;
+  const double frames = (stop_time - start_time) / every;
+  constexpr std::int64_t limit = SnapshotRecorder<2>::kMaxFrames;
+  if (frames > static_cast<double>(limit))
+    throw InputError(fmt::format("output.snapshot_every = {}: {:.3g} frames from t = {} to stop.time = {}; at most {} "
+                                 "are allowed (use a larger interval)",
+                                 every, frames, start_time, stop_time, limit));
 }
 
 template class SnapshotRecorder<2>;
 template class SnapshotRecorder<3>;
 template std::unique_ptr<SnapshotRecorder<2>> make_snapshot_recorder<2>(const Config&, const State<2>&, const std::string&,
-                                                                        std::optional<std::string_view>);
+                                                                        std::optional<std::string_view>, RunGuard*);
 template std::unique_ptr<SnapshotRecorder<3>> make_snapshot_recorder<3>(const Config&, const State<3>&, const std::string&,
-                                                                        std::optional<std::string_view>);
+                                                                        std::optional<std::string_view>, RunGuard*);
 
 }  // namespace ballagg

@@ -5,6 +5,12 @@
 // written from before_event, between two events (ed, rigid-body) or two steps (ts), without
 // changing the run: a run with snapshots gives the same results as one without. A frame due at the
 // instant of an event, or of the end of a time step, shows the state after it.
+//
+// The frames due before one event check the run's guard (core/run_guard.hpp) one by one,
+// so that neither the wall-clock limit nor a signal waits for them. A run whose stop.time
+// would take more than kMaxFrames frames is refused before it starts
+// (check_snapshot_frames); one without a finite stop.time ends after that many (stop_reason
+// output_limit).
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -21,8 +27,14 @@ namespace ballagg {
 template <int D>
 class SnapshotRecorder final : public RunObserver<D> {
  public:
-  // `mirror_at_walls`: see capture_frame (true for the time-stepping engine).
-  SnapshotRecorder(double every, std::vector<std::unique_ptr<FrameSink<D>>> sinks, bool mirror_at_walls);
+  // Frames taken at multiples of output.snapshot_every, at most: 100 times what a film
+  // needs, and a bound on the disk a mistyped interval can fill.
+  static constexpr std::int64_t kMaxFrames = 100'000;
+
+  // `mirror_at_walls`: see capture_frame (true for the time-stepping engine). guard: the
+  // run's, checked between frames and stopped at the cap (null: neither).
+  SnapshotRecorder(double every, std::vector<std::unique_ptr<FrameSink<D>>> sinks, bool mirror_at_walls,
+                   RunGuard* guard = nullptr);
 
   void on_start(const State<D>& s) override;
   void before_event(const State<D>& s, double t) override;
@@ -48,6 +60,7 @@ class SnapshotRecorder final : public RunObserver<D> {
   LayoutCopies<D> layouts_;  // the frames' sphere layouts, shared while the state's is unchanged
   BackgroundWriter<D> writer_;
   bool mirror_at_walls_;
+  RunGuard* guard_;
   std::int64_t next_k_ = 1;
   std::int64_t events_ = 0;
   int frames_ = 0;
@@ -62,6 +75,11 @@ class SnapshotRecorder final : public RunObserver<D> {
 template <int D>
 std::unique_ptr<SnapshotRecorder<D>> make_snapshot_recorder(const Config& resolved, const State<D>& initial,
                                                             const std::string& dir,
-                                                            std::optional<std::string_view> saved = std::nullopt);
+                                                            std::optional<std::string_view> saved = std::nullopt,
+                                                            RunGuard* guard = nullptr);
+
+// Throws InputError naming output.snapshot_every when a run from `start_time` to stop.time
+// would take more than SnapshotRecorder's kMaxFrames frames at that interval.
+void check_snapshot_frames(double every, double start_time, double stop_time);
 
 }  // namespace ballagg

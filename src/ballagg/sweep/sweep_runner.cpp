@@ -12,9 +12,11 @@
 #include <omp.h>
 #endif
 
+#include "ballagg/core/run_guard.hpp"
 #include "ballagg/io/output_dir.hpp"
 #include "ballagg/io/text_file.hpp"
 #include "ballagg/run/analyze_run.hpp"
+#include "ballagg/run/checkpointer.hpp"
 #include "ballagg/run/simulation.hpp"
 #include "ballagg/sweep/sweep_table.hpp"
 
@@ -81,7 +83,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Commu
 #ifdef _OPENMP
     omp_set_num_threads(std::max(1, o.threads_per_run));  // per thread: each run's own team
 #endif
-    for (std::size_t k; (k = next++) < mine.size();) {
+    for (std::size_t k; stop_signal() == 0 && (k = next++) < mine.size();) {
       const SweepRun& r = *mine[k];
       const fs::path dir = run_dir(o, r);
       try {
@@ -95,6 +97,8 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Commu
           fmt::print("sweep: {} done\n", (fs::path("runs") / r.name).string());
           std::fflush(stdout);
         }
+      } catch (const RunInterrupted&) {
+        // Stopped under way: it leaves nothing and runs again when the sweep is resumed.
       } catch (const std::exception& e) {
         ++failed;
         const std::lock_guard<std::mutex> lock(print);
@@ -114,7 +118,8 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Commu
   worker();
   for (std::thread& t : threads) t.join();
 
-  SweepOutcome out{world.sum(ran), world.sum(skipped), world.sum(failed)};
+  SweepOutcome out{world.sum(ran), world.sum(skipped), world.sum(failed), static_cast<long long>(runs.size()),
+                   stop_signal()};
   world.barrier();  // every run is on disk
   if (world.rank() == 0) write_sweep_tables(o.out_dir, spec, points, runs);
   return out;

@@ -4,6 +4,10 @@
 // (runs/p007-r03: the files of `ballagg run` plus those of `ballagg analyze`). A run is
 // finished when its summary.json exists (written last, atomically): a resumed sweep skips
 // it. At the end the first process writes the tables of sweep_table.hpp.
+//
+// A signal (SIGINT, SIGTERM, SIGHUP; the caller installs the handlers, run/checkpointer.hpp)
+// stops the runs under way, which leave nothing (they start again when the sweep is
+// resumed), and starts no new one; the tables of the runs done are written all the same.
 #include <string>
 
 #include "ballagg/sweep/communicator.hpp"
@@ -21,6 +25,8 @@ struct SweepOptions {
 
 struct SweepOutcome {
   long long ran = 0, skipped = 0, failed = 0;  // over all processes
+  long long total = 0;                         // runs of the sweep
+  int signal = 0;                              // the signal that stopped the sweep, or 0
 };
 
 // Throws InputError (before running anything) for a bad sweep file or directory.

@@ -213,9 +213,10 @@ void write_sweep_tables(const std::string& out_dir, const SweepSpec& spec, const
     fmt::format_to(std::back_inserter(per_run), "{},{},{},{},{}", r.point, r.realization, r.seed, r.name, reason);
     for (double v : row) fmt::format_to(std::back_inserter(per_run), ",{}", num(v));
     fmt::format_to(std::back_inserter(per_run), "\n");
-    // A run stopped by stop.wall_seconds (a resource limit, not a criterion of the state
-    // the sweep asks for) did not reach that state: listed in runs.csv, left out of the means.
-    if (reason == "wall_seconds") {
+    // A run stopped by stop.wall_seconds or an output cap (resource limits, not criteria of
+    // the state the sweep asks for) did not reach that state: listed in runs.csv, left out
+    // of the means.
+    if (reason == "wall_seconds" || reason == "output_limit") {
       ++cut[r.point];
       continue;
     }

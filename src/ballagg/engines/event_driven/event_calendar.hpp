@@ -107,6 +107,7 @@ class EventCalendar {
   // Removes and returns the earliest event (possibly stale). Requires !empty().
   Event pop() {
     const int c = order_.top();
+    last_popped_from_ = c;
     Filed& mine = filed_[c];
     std::pop_heap(mine.begin(), mine.end(), later);
     const Event e = mine.back();
@@ -114,6 +115,17 @@ class EventCalendar {
     --stored_;
     reposition(c);
     return e;
+  }
+
+  // Files the event the last pop() returned again, where it was: the calendar then holds
+  // the same events as before that pop, and gives them in the same order (the order is
+  // total). Nothing may have been filed or dropped since.
+  void put_back(const Event& e) {
+    Filed& mine = filed_[last_popped_from_];
+    mine.push_back(e);
+    std::push_heap(mine.begin(), mine.end(), later);
+    ++stored_;
+    reposition(last_popped_from_);
   }
 
   // Checkpoints: every cluster's events (stale ones too: the event-queue peak counts them).
@@ -174,6 +186,7 @@ class EventCalendar {
   std::vector<Filed> filed_;  // per cluster: a binary heap (earliest on top)
   BucketQueue<FrontOrder> order_{FrontOrder{&filed_}};  // clusters with events
   std::size_t stored_ = 0;
+  int last_popped_from_ = 0;
 };
 
 }  // namespace ballagg

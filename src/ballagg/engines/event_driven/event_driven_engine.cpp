@@ -127,6 +127,7 @@ class EventDrivenCore {
   std::optional<Event> next_event() {
     return calendar_.pop_valid([&](const Event& e) { return valid(e); });
   }
+  void put_back(const Event& e) { calendar_.put_back(e); }
 
   EventRecord handle(const Event& e) {
     switch (e.kind) {

@@ -2,7 +2,6 @@
 // The main loop shared by the event-driven engines: take the next event, check the stop
 // criteria, advance, handle, report. `Core` supplies next_event() and handle(); the fast
 // engine and the naive reference differ only in how they find the next event.
-#include <chrono>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -37,18 +36,25 @@ struct EventLoopState {
   std::int64_t last_collision_event = 0;  // events handled when the last collision was
 };
 
-// Reading the clock (stop.wall_seconds) and offering a checkpoint cost ~20 ns: doing it
-// every this many events keeps it invisible. A run stops within this many events of its
-// wall-clock limit.
+// Reading the clock (stop.wall_seconds) and the signal flag, and offering a checkpoint,
+// cost ~20 ns: doing it every this many events keeps it invisible. A run stops within this
+// many events of its wall-clock limit or of a signal.
 inline constexpr std::int64_t kEventsPerClockCheck = 256;
 
-// `Core` may also supply stop_reason() (criteria of its own), and, for checkpoints, loop()
-// (an EventLoopState) and save(): its whole state as bytes, taken between two events.
+// `Core` may also supply stop_reason() (criteria of its own), for checkpoints loop() (an
+// EventLoopState) and save(): its whole state as bytes, taken between two events, and
+// put_back(event): files the event next_event() returned again, unhandled (a core that
+// predicts from scratch, ed-naive, finds it again by itself).
+//
+// The observers' work before an event (rows and frames due before it) polls the run's
+// guard and may be cut short (RunGuard). The loop then does not handle the event: on a
+// signal it puts the event back, so that the checkpoint taken next resumes exactly where
+// the observers stopped; on the wall-clock limit or an output cap it ends the run at the
+// event's time, without the output that had no time to be written.
 template <int D, class Core>
 RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunObserver<D>& observer) {
-  using clock = std::chrono::steady_clock;
-  const auto started = clock::now();
-  auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - started).count(); };
+  RunGuard own_guard(stop.wall_seconds);
+  RunGuard& guard = stop.guard != nullptr ? *stop.guard : own_guard;
   // After this many events without a collision, check whether one is possible at all.
   const std::int64_t quiet_limit = 16 * static_cast<std::int64_t>(s.n_spheres()) + 4096;
 
@@ -65,28 +71,44 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
     if constexpr (requires { core.stop_reason(); }) {  // criteria only some engines know
       if (const std::optional<StopReason> r = core.stop_reason()) { result.reason = *r; break; }
     }
-    if (count.events % kEventsPerClockCheck == 0) {
-      if (elapsed() >= stop.wall_seconds) { result.reason = StopReason::wall_seconds; break; }
+    if (count.events % kEventsPerClockCheck == 0 || guard.stopped()) {
+      guard.check();
+      if (guard.cause() == StopCause::wall_seconds) { result.reason = StopReason::wall_seconds; break; }
+      // A signal: the checkpointing observer writes one and ends the run by throwing.
       if constexpr (requires { core.save(); })
         if (observer.checkpoint_due()) observer.on_checkpoint(s, count, core.save());
+      if (guard.stopped()) { result.reason = stop_reason_of(guard.cause()); break; }
     }
     if (count.events - last_collision_event > quiet_limit) {
       if (collisions_impossible(s)) { result.reason = StopReason::no_collision_possible; break; }
       last_collision_event = count.events;
     }
     const std::optional<Event> next = core.next_event();
+    // The time the observers are told of next: the event's, or the end of the run.
+    const double until = !next ? stop.time : std::min(next->time, stop.time);
+    if (until < kNever) {
+      observer.before_event(s, until);
+      if (guard.stopped()) {  // the observers' output was cut short
+        if (guard.cause() == StopCause::signal) {
+          if constexpr (requires { core.put_back(*next); })
+            if (next) core.put_back(*next);
+          continue;
+        }
+        result.reason = stop_reason_of(guard.cause());
+        s.time = std::max(s.time, until);
+        break;
+      }
+    }
     if (!next) {
       result.reason = collisions_impossible(s) ? StopReason::no_collision_possible : StopReason::no_more_events;
-      if (stop.time < kNever) { observer.before_event(s, stop.time); s.time = stop.time; }
+      if (stop.time < kNever) s.time = stop.time;
       break;
     }
     if (next->time > stop.time) {
       result.reason = StopReason::time;
-      observer.before_event(s, stop.time);
       s.time = stop.time;
       break;
     }
-    observer.before_event(s, next->time);
     s.time = std::max(s.time, next->time);
     const EventRecord record = core.handle(*next);
     ++count.events;
@@ -94,7 +116,7 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
     observer.after_event(s, record, count);
   }
   result.counters = count;
-  result.wall_seconds = elapsed();
+  result.wall_seconds = guard.elapsed();
   observer.on_finish(s, result);
   return result;
 }

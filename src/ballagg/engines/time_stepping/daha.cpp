@@ -117,7 +117,7 @@ void keep_within_walls(const DahaProblem<D>& prob, std::vector<Vec<D>>& u, std::
 }  // namespace
 
 template <int D>
-DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<Vec<D>>& u) {
+DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<Vec<D>>& u, const RunGuard* guard) {
   const int n_vars = static_cast<int>(prob.inverse_mass.size());
   u.assign(n_vars, Vec<D>::Zero());
   std::vector<Vec<D>> velocity(n_vars, Vec<D>::Zero()), force(n_vars), previous(n_vars);
@@ -149,6 +149,9 @@ DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<V
   double best_violation = stats.max;
   int best_at = 0;
   while (result.iterations < p.max_iterations) {
+    if (guard != nullptr && result.iterations % kIterationsPerGuardCheck == kIterationsPerGuardCheck - 1 &&
+        guard->step_must_end())
+      break;
     ++result.iterations;
     previous = u;
     for (int k = 0; k < n_vars; ++k) {
@@ -212,7 +215,7 @@ DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<V
   return result;
 }
 
-template DahaResult minimise<2>(DahaProblem<2>&, const DahaParameters&, std::vector<Vec<2>>&);
-template DahaResult minimise<3>(DahaProblem<3>&, const DahaParameters&, std::vector<Vec<3>>&);
+template DahaResult minimise<2>(DahaProblem<2>&, const DahaParameters&, std::vector<Vec<2>>&, const RunGuard*);
+template DahaResult minimise<3>(DahaProblem<3>&, const DahaParameters&, std::vector<Vec<3>>&, const RunGuard*);
 
 }  // namespace ballagg

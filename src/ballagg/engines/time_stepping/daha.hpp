@@ -17,6 +17,7 @@
 #include <limits>
 #include <vector>
 
+#include "ballagg/core/run_guard.hpp"
 #include "ballagg/core/vec.hpp"
 #include "ballagg/engines/time_stepping/ts_settings.hpp"
 
@@ -75,12 +76,18 @@ struct DahaResult {
   double residual_overlap = 0.0;      // max over pairs of 1 - d / sigma at the end
 };
 
-// Solves the problem; returns the displacements (scaled) in `u` (resized to the number of
-// variables) and the final multipliers in problem.pairs[].lambda.
-template <int D>
-DahaResult minimise(DahaProblem<D>& problem, const DahaParameters& p, std::vector<Vec<D>>& u);
+// Iterations between two questions to the run's guard (RunGuard::step_must_end, a clock
+// reading of about 20 ns; an iteration of the smallest problem costs about as much).
+inline constexpr int kIterationsPerGuardCheck = 64;
 
-extern template DahaResult minimise<2>(DahaProblem<2>&, const DahaParameters&, std::vector<Vec<2>>&);
-extern template DahaResult minimise<3>(DahaProblem<3>&, const DahaParameters&, std::vector<Vec<3>>&);
+// Solves the problem; returns the displacements (scaled) in `u` (resized to the number of
+// variables) and the final multipliers in problem.pairs[].lambda. With a guard, stops
+// unconverged (as at max_iterations) once the guard says the step must end.
+template <int D>
+DahaResult minimise(DahaProblem<D>& problem, const DahaParameters& p, std::vector<Vec<D>>& u,
+                    const RunGuard* guard = nullptr);
+
+extern template DahaResult minimise<2>(DahaProblem<2>&, const DahaParameters&, std::vector<Vec<2>>&, const RunGuard*);
+extern template DahaResult minimise<3>(DahaProblem<3>&, const DahaParameters&, std::vector<Vec<3>>&, const RunGuard*);
 
 }  // namespace ballagg

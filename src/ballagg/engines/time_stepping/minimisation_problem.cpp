@@ -168,7 +168,7 @@ GroupSolution<D> solve_rigid(const ProblemContext<D>& ctx, const CollisionGroup&
   GroupSolution<D> out;
   std::vector<Vec<D>> u;
   if (ctx.sink) ctx.sink->record(prob);
-  out.result = minimise(prob, ctx.settings.daha, u);
+  out.result = minimise(prob, ctx.settings.daha, u, ctx.guard);
 
   out.n_variables = static_cast<int>(g.bodies.size());
   out.contacts = touching_pairs(prob, sphere_pairs, u, ctx.settings.daha.eps_c);
@@ -334,7 +334,7 @@ GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionG
   GroupSolution<D> out;
   std::vector<Vec<D>> u;
   if (ctx.sink) ctx.sink->record(prob);
-  out.result = minimise(prob, ctx.settings.daha, u);
+  out.result = minimise(prob, ctx.settings.daha, u, ctx.guard);
   out.n_variables = static_cast<int>(mass.size());
   out.link_stretch = largest_stretch(prob, u, first_link, last_link);
   for (SpherePair& l : links) l.lambda = prob.pairs[index.at(key(l.i, l.j))].lambda;

@@ -58,6 +58,7 @@ struct ProblemContext {
   double delta_w;                        // resolved Delta_W
   double mean_mass;
   DahaProblemSink<D>* sink = nullptr;    // sees every problem before it is solved (tuning)
+  const RunGuard* guard = nullptr;       // the run's: cuts long minimisations short
 };
 
 template <int D>

@@ -156,7 +156,7 @@ class TimeSteppingEngine final : public Engine<D> {
 
   ProblemContext<D> context(const State<D>& s) const {
     return {s, positions_, step_shift_, flight_, bodies_, *cells_, cell_slack_, S_, links_, settings_,
-            length_scale_, delta_w_, mean_mass_, sink_};
+            length_scale_, delta_w_, mean_mass_, sink_, guard_};
   }
   bool rigid() const { return settings_.model == TsModel::rigid; }
   // Whether sphere i may have moved more than the near list's half skin since its
@@ -222,14 +222,15 @@ class TimeSteppingEngine final : public Engine<D> {
   std::vector<std::vector<std::int32_t>> beyond_found_;  // per thread, within apply(): their cells
   double length_scale_ = 1.0, delta_w_ = 0.0, mean_mass_ = 1.0;
   std::optional<TimeStepRule> rule_;         // from the state at the start of the run
+  RunGuard* guard_ = nullptr;                // the guard of the run under way
   bool resumed_ = false;                     // resume_from prepared the next run()
 };
 
 template <int D>
 RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunObserver<D>& observer) {
-  using clock = std::chrono::steady_clock;
-  const auto started = clock::now();
-  auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - started).count(); };
+  RunGuard own_guard(stop.wall_seconds);
+  RunGuard& guard = stop.guard != nullptr ? *stop.guard : own_guard;
+  guard_ = &guard;
   if (!resumed_) {
     prepare(s);
     rule_.emplace(settings_, s);
@@ -240,14 +241,22 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
   RunResult result;
   observer.on_start(s);
   while (true) {
-    if (observer.checkpoint_due()) observer.on_checkpoint(s, counters_, save());
+    // A signal: the checkpointing observer writes one and ends the run by throwing.
+    guard.check();
+    if (guard.cause() != StopCause::wall_seconds && observer.checkpoint_due())
+      observer.on_checkpoint(s, counters_, save());
     if (s.n_clusters() <= stop.clusters) { result.reason = StopReason::clusters; break; }
-    if (elapsed() >= stop.wall_seconds) { result.reason = StopReason::wall_seconds; break; }
+    if (guard.stopped()) { result.reason = stop_reason_of(guard.cause()); break; }
     if (s.time >= stop.time) { result.reason = StopReason::time; break; }
     const double dt = rule.next(s);
     if (dt <= 0.0 || (counters_.steps % 64 == 0 && collisions_impossible(s))) {
       result.reason = StopReason::no_collision_possible;
-      if (stop.time < kNever) { observer.before_event(s, stop.time); s.time = stop.time; }
+      if (stop.time < kNever) {
+        observer.before_event(s, stop.time);
+        if (guard.cause() == StopCause::signal) continue;  // output cut short: checkpoint first
+        if (guard.stopped()) result.reason = stop_reason_of(guard.cause());
+        s.time = stop.time;
+      }
       break;
     }
     step(s, std::min(s.time + dt, stop.time), observer);
@@ -256,20 +265,26 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
   // through one (see commit); the next step would have moved it back and resolved the
   // overlaps that creates, and so do steps of zero length here. Should they not settle, the clusters are
   // moved back all the same (summary.json's max_overlap then shows what is left).
-  if (!s.box.periodic()) {
+  if (!s.box.periodic() && result.reason != StopReason::interrupted) {
     for (int k = 0; k < kFinalWallSteps && outside_walls(s); ++k) step(s, s.time, observer);
     for (int c : s.alive_clusters()) keep_inside_walls(s, c, s.time, false);
   }
   result.counters = counters_;
-  result.wall_seconds = elapsed();
+  result.wall_seconds = guard.elapsed();
+  guard_ = nullptr;
   observer.on_finish(s, result);
   return result;
 }
 
-// One step to time t (t = s.time: walls and overlaps only).
+// One step to time t (t = s.time: walls and overlaps only). The observers' output before
+// it may be cut short by a signal (RunGuard): the step is then not taken, and the
+// checkpoint written next resumes where the output stopped. Cut short otherwise (the
+// wall-clock limit, an output cap), the step is taken and the run ends after it, without
+// the output that had no time to be written.
 template <int D>
 void TimeSteppingEngine<D>::step(State<D>& s, double t, RunObserver<D>& observer) {
   observer.before_event(s, t);
+  if (guard_->cause() == StopCause::signal) return;
   advect(s, t - s.time);
   defer_positions(s);
   detect_overlaps(s);
@@ -510,7 +525,10 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
     const std::uint64_t signature = round_signature();
     const bool repeats = std::find(earlier_rounds.begin(), earlier_rounds.end(), signature) != earlier_rounds.end();
     earlier_rounds.push_back(signature);
-    const bool out_of_rounds = round >= settings_.max_link_rounds || repeats;
+    // A step that must end (RunGuard::step_must_end: the wall-clock limit, or a signal that
+    // has waited) ends as at max_link_rounds: the groups left go to the fall-back.
+    const bool out_of_rounds =
+        round >= settings_.max_link_rounds || repeats || (guard_ != nullptr && guard_->step_must_end());
     if (out_of_rounds) ++counters_.rounds_exhausted;
     const ProblemContext<D> ctx = context(s);
     std::vector<GroupSolution<D>> solutions(groups.size());
