@@ -486,7 +486,7 @@ Config parse_config_text(std::string_view text, const std::string& source_name, 
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
   if (path.empty()) return parse_config_text("", "(defaults)", overrides);
-  Config c = parse_config_text(read_text_file(path, "config file"), path, overrides);
+  Config c = parse_config_text(read_text_file(path, "config file", kMaxSettingsFileBytes), path, overrides);
   // A relative initial.file written in a config file is relative to that file; one given
   // with --set is relative to the working directory.
   const bool from_set = std::any_of(overrides.begin(), overrides.end(),

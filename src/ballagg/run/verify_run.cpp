@@ -302,7 +302,7 @@ void verify_timeseries(const RunDirectory& run, const Summary& summary, Checker&
     c.note("no timeseries.csv");
     return;
   }
-  std::istringstream in(read_text_file(run.path("timeseries.csv"), "time series"));
+  std::istringstream in(read_text_file(run.path("timeseries.csv"), "time series", kMaxStateFileBytes));
   std::string header, line, last;
   std::getline(in, header);
   while (std::getline(in, line))
@@ -329,7 +329,7 @@ void verify_timeseries(const RunDirectory& run, const Summary& summary, Checker&
 
 Verification verify_run(const std::string& dir) {
   const RunDirectory run = open_run_directory(dir);
-  Summary summary{nlohmann::json::parse(read_text_file(run.path("summary.json"), "run summary"), nullptr, false),
+  Summary summary{nlohmann::json::parse(read_text_file(run.path("summary.json"), "run summary", kMaxSettingsFileBytes), nullptr, false),
                   run.path("summary.json")};
   Verification out;
   Checker c(out);

@@ -38,7 +38,7 @@ void check_sweep_dir(const SweepSpec& spec, const SweepOptions& o) {
     if (!o.resume)
       throw InputError(fmt::format("--out {}: holds a sweep already (use --resume to continue it, or another --out)",
                                    o.out_dir));
-    if (read_text_file(copy.string(), "sweep copy") != spec.text)
+    if (read_text_file(copy.string(), "sweep copy", kMaxSettingsFileBytes) != spec.text)
       throw InputError(fmt::format("{}: differs from {}, the file this sweep was started with (a resumed sweep must "
                                    "keep its grid)", spec.source, copy.string()));
     return;
