@@ -17,6 +17,18 @@ void add_config_args(CLI::App& cmd, ConfigArgs& args) {
       ->allow_extra_args(false);
 }
 
+// No argument of ballagg means anything when empty: an empty path would otherwise be taken
+// for one not given (`--resume ""` starting a new run, `--out ""` writing to
+// out/<timestamp>), an empty --set is no key. The name of the first option given an
+// empty value, in the command chosen.
+std::optional<std::string> first_empty_argument(const CLI::App& app) {
+  for (const CLI::App* command : app.get_subcommands())
+    for (const CLI::Option* option : command->get_options())
+      for (const std::string& value : option->results())
+        if (value.empty()) return option->get_name();
+  return std::nullopt;
+}
+
 }  // namespace
 
 CommandLine::CommandLine() {
@@ -65,6 +77,10 @@ std::optional<int> parse_command_line(CommandLine& cl, int argc, const char* con
       return kBadInput;
     }
     fmt::print(stderr, "ballagg: error: {} (see ballagg --help)\n", e.what());
+    return kBadInput;
+  }
+  if (const std::optional<std::string> option = first_empty_argument(app)) {
+    fmt::print(stderr, "ballagg: error: {}: an empty argument is not allowed (see ballagg --help)\n", *option);
     return kBadInput;
   }
   return std::nullopt;
