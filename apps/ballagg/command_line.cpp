@@ -42,9 +42,11 @@ CommandLine::CommandLine() {
   run->add_option("--seed", seed, "Random seed (overrides initial.seed)")
       ->check(CLI::Range(std::uint64_t{0}, static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
   run->add_flag("--quiet,-q", run_options.quiet, "No progress output");
+  run->add_flag("--overwrite", run_options.overwrite,
+                "Replace the run in --out (its files are removed first; other files stay)");
   CLI::Option* resume = run->add_option("--resume", resume_dir, "Continue the interrupted run in RUN_DIR from its checkpoint")
                             ->type_name("RUN_DIR");
-  for (const char* other : {"config", "--set", "--seed", "--out"}) resume->excludes(run->get_option(other));
+  for (const char* other : {"config", "--set", "--seed", "--out", "--overwrite"}) resume->excludes(run->get_option(other));
 
   show = app.add_subcommand("config", "Print the configuration that a run would use, as TOML");
   add_config_args(*show, show_args);

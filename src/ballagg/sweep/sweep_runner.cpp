@@ -4,6 +4,7 @@
 #include <atomic>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include <fmt/format.h>
@@ -12,6 +13,7 @@
 #include <omp.h>
 #endif
 
+#include "ballagg/io/directory_lock.hpp"
 #include "ballagg/io/output_dir.hpp"
 #include "ballagg/io/text_file.hpp"
 #include "ballagg/run/analyze_run.hpp"
@@ -26,6 +28,14 @@ namespace fs = std::filesystem;
 constexpr const char* kSweepCopy = "sweep.toml";  // the sweep file as started, in the sweep directory
 
 fs::path run_dir(const SweepOptions& o, const SweepRun& r) { return fs::path(o.out_dir) / "runs" / r.name; }
+
+// A directory with no file but the lock file a killed sweep may leave.
+bool empty_but_for_a_lock(const fs::path& dir) {
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec))
+    if (e.path().filename() != kLockFile) return false;
+  return !ec;
+}
 
 // Checks that out_dir can hold this sweep: a fresh or empty directory, or (with --resume)
 // one started from the same sweep file. Every process checks, only the first writes.
@@ -43,7 +53,7 @@ void check_sweep_dir(const SweepSpec& spec, const SweepOptions& o) {
                                    "keep its grid)", spec.source, copy.string()));
     return;
   }
-  if (fs::exists(o.out_dir, ec) && !fs::is_empty(o.out_dir, ec))
+  if (fs::exists(o.out_dir, ec) && !empty_but_for_a_lock(o.out_dir))
     throw InputError(fmt::format("--out {}: not empty and not a sweep directory (no {})", o.out_dir, kSweepCopy));
 }
 
@@ -57,8 +67,24 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Commu
   const std::vector<SweepRun> runs = sweep_runs(spec, points);  // every configuration checked
   check_sweep_dir(spec, o);
   world.barrier();  // every process has checked before the first writes
+  // The first process locks the sweep directory for the whole sweep: a second sweep
+  // started on it (with --resume or not) is refused by every process of its job.
+  std::optional<DirectoryLock> lock;
+  std::string refusal;
   if (world.rank() == 0) {
-    prepare_output_dir(o.out_dir);
+    const bool created = prepare_output_dir(o.out_dir);
+    try {
+      lock.emplace(o.out_dir);
+    } catch (const InputError& e) {
+      refusal = e.what();
+      std::error_code ec;
+      if (created) fs::remove(o.out_dir, ec);
+    }
+  }
+  if (world.sum(refusal.empty() ? 0 : 1) > 0)
+    throw InputError(!refusal.empty() ? refusal
+                                      : fmt::format("{}: another ballagg process is writing this directory", o.out_dir));
+  if (world.rank() == 0) {
     if (!fs::exists(fs::path(o.out_dir) / kSweepCopy)) write_file_atomically(o.out_dir, kSweepCopy, spec.text);
     fs::create_directories(fs::path(o.out_dir) / "runs");
   }
@@ -85,7 +111,11 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Commu
       const SweepRun& r = *mine[k];
       const fs::path dir = run_dir(o, r);
       try {
-        if (!finished(dir)) run_simulation(r.config, {dir.string(), true, false, false});
+        // An unfinished run (the sweep was stopped during it) starts again from the beginning,
+        // replacing its files.
+        RunOptions options{dir.string(), true, false, false};
+        options.overwrite = true;
+        if (!finished(dir)) run_simulation(r.config, options);
         analyze_run({dir.string(), "", "", ""});
         std::error_code ec;
         fs::remove(dir / "error.txt", ec);  // left by an earlier attempt
