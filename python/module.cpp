@@ -2,6 +2,7 @@
 // callback, the state as numpy arrays, every analysis function, and run directories.
 #include "bindings.hpp"
 
+#include "ballagg/io/output_error.hpp"
 #include "ballagg/version.hpp"
 
 PYBIND11_MODULE(ballagg, m) {
@@ -10,6 +11,8 @@ PYBIND11_MODULE(ballagg, m) {
   m.attr("__version__") = ballagg::kVersion;
   // Bad input (a configuration value, a run directory): the message the command line prints.
   py::register_exception<ballagg::InputError>(m, "InputError", PyExc_ValueError);
+  // An output file that cannot be written (a full disk, a device or link at its path).
+  py::register_exception<ballagg::OutputError>(m, "OutputError", PyExc_OSError);
   ballagg::python::bind_config(m);
   ballagg::python::bind_simulation(m);
   ballagg::python::bind_analysis(m);

@@ -16,7 +16,7 @@ namespace {
 
 // timeseries.csv as columns of numpy arrays.
 py::dict timeseries_columns(const std::string& path) {
-  std::istringstream in(read_text_file(path, "time series"));
+  std::istringstream in(read_text_file(path, "time series", kMaxStateFileBytes));
   std::string line;
   std::getline(in, line);
   std::vector<std::string> names;
@@ -85,7 +85,7 @@ void bind_run_directory(py::module_& m) {
   m.def("load", [](const py::object& path) {
     LoadedRun r;
     r.run = open_run_directory(py::str(path).cast<std::string>());
-    r.summary = json_loads(read_text_file(r.run.path("summary.json"), "run summary"));
+    r.summary = json_loads(read_text_file(r.run.path("summary.json"), "run summary", kMaxSettingsFileBytes));
     std::error_code ec;
     r.timeseries = std::filesystem::exists(r.run.path("timeseries.csv"), ec) ? py::object(timeseries_columns(r.run.path("timeseries.csv")))
                                                                              : py::object(py::dict());

@@ -203,11 +203,14 @@ void bind_simulation(py::module_& m) {
   }, py::arg("config") = py::none(), py::arg("overrides") = py::none(),
      "A simulation of a Config (or of what Config() accepts: None, a dict, a TOML path), at its initial state.");
 
-  m.def("run", [](const py::object& config, const std::string& out, bool quiet) {
+  m.def("run", [](const py::object& config, const std::string& out, bool quiet, bool overwrite) {
     const Config c = py::isinstance<Config>(config) ? config.cast<Config>() : config_from(config, py::none());
-    return run_simulation(c, {out, quiet, false, false});
-  }, py::arg("config") = py::none(), py::arg("out") = "", py::arg("quiet") = true,
-     "`ballagg run`: runs a configuration and writes its run directory (default out/<timestamp>); returns it.");
+    RunOptions options{out, quiet, false, false};
+    options.overwrite = overwrite;
+    return run_simulation(c, options);
+  }, py::arg("config") = py::none(), py::arg("out") = "", py::arg("quiet") = true, py::arg("overwrite") = false,
+     "`ballagg run`: runs a configuration and writes its run directory (default out/<timestamp>); returns it. A "
+     "directory holding another run is refused unless overwrite=True (`--overwrite`).");
   m.def("resume", [](const std::string& dir, bool quiet) { return resume_simulation(dir, {dir, quiet, false, false}); },
         py::arg("dir"), py::arg("quiet") = true, "`ballagg run --resume DIR`: finishes an interrupted run.");
   m.def("verify", [](const std::string& dir) {

@@ -32,11 +32,28 @@ except ImportError as e:
 DPI = 80  # small PNGs for the repository
 
 
+# A sweep's tables are a few kilobytes a point: a file near this size is no sweep table,
+# and is refused before it is read (docs/hardening.md).
+MAX_TABLE_BYTES = 1 << 30
+
+
 def read_csv(path):
+    """The rows of a sweep table as dicts; one line and exit status 2 for anything else."""
     if not os.path.exists(path):
         fail(f"{path}: missing (is this a sweep directory? run ballagg sweep first)")
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+    if not os.path.isfile(path):
+        fail(f"{path}: not a regular file (is this a sweep directory?)")
+    if os.path.getsize(path) > MAX_TABLE_BYTES:
+        fail(f"{path}: larger than {MAX_TABLE_BYTES} bytes, not a sweep table")
+    try:
+        with open(path, newline="", encoding="utf-8") as f:
+            return list(csv.DictReader(f))
+    except UnicodeDecodeError as e:
+        fail(f"{path}: not UTF-8 text (byte {e.start}: {e.reason}); not a ballagg sweep table")
+    except csv.Error as e:
+        fail(f"{path}: not a CSV table ({e})")
+    except OSError as e:
+        fail(f"{path}: cannot read: {e.strerror}")
 
 
 def number(row, key):
@@ -271,7 +288,10 @@ def main(argv):
     for sweep in args:
         if not os.path.isdir(sweep):
             fail(f"{sweep}: not a directory")
-        rows += [r for r in read_tagged(sweep, "sweep.csv") if int(r["runs"]) > 0]
+        table = read_tagged(sweep, "sweep.csv")
+        if any("runs" not in r or "method" not in r for r in table):
+            fail(f"{os.path.join(sweep, 'sweep.csv')}: no runs or method column (not a ballagg sweep table)")
+        rows += [r for r in table if number(r, "runs") > 0]
         boxes += read_tagged(sweep, "sweep_box_counting.csv")
         pairs += read_tagged(sweep, "sweep_pair_distribution.csv")
     if not rows:

@@ -3,6 +3,9 @@
 // directory that cannot be written) is one OutputError naming the file and the reason,
 // with the temporary file gone.
 #include <sys/resource.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <unistd.h>
 
 #include <csignal>
 #include <cstring>
@@ -150,6 +153,90 @@ TEST(AtomicFile, CheckpointBeyondAFileSizeLimitKeepsThePreviousOne) {
   EXPECT_EQ(message, (dir / kCheckpointFile).string() + ": cannot write: " + std::strerror(EFBIG));
   EXPECT_EQ(read_checkpoint_file(dir.path().string()).state, "previous");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1);
+}
+
+// ---- Output paths that are not regular files (docs/outputs.md, "Output files") ----
+
+bool is_fifo_node(const fs::path& p) { return fs::is_fifo(fs::symlink_status(p)); }
+
+TEST(AtomicFile, NeverReplacesAFifo) {
+  const TempDir dir;
+  ASSERT_EQ(::mkfifo((dir / "final.csv").c_str(), 0644), 0);
+  const std::string message = output_error_of([&] { write_file_atomically(dir.path().string(), "final.csv", "x\n"); });
+  EXPECT_EQ(message, (dir / "final.csv").string() + ": cannot write: it is a FIFO (only a regular file is replaced)");
+  EXPECT_TRUE(is_fifo_node(dir / "final.csv"));
+  EXPECT_FALSE(fs::exists(temporary_path_for((dir / "final.csv").string())));
+}
+
+TEST(AtomicFile, NeverReplacesALinkNorWritesThroughIt) {
+  // The rule for links: refused, whatever they point to. The link and its target stay.
+  const TempDir dir;
+  const fs::path target = dir.write("target.csv", "the target\n");
+  fs::create_symlink(target, dir / "final.csv");
+  fs::create_symlink(dir / "nothing", dir / "dangling.csv");
+  for (const char* name : {"final.csv", "dangling.csv"}) {
+    const std::string message = output_error_of([&] { write_file_atomically(dir.path().string(), name, "x\n"); });
+    EXPECT_EQ(message.rfind((dir / name).string() + ": cannot write: it is a symbolic link", 0), 0u) << message;
+    EXPECT_TRUE(fs::is_symlink(dir / name));
+  }
+  EXPECT_EQ(slurp(target), "the target\n");
+  EXPECT_FALSE(fs::exists(dir / "nothing"));
+}
+
+TEST(AtomicFile, ALinkAtTheTemporaryNameIsNotWrittenThrough) {
+  // A link left (or planted) at .NAME.tmp: the file is written anew beside it, never into
+  // the link's target.
+  const TempDir dir;
+  const fs::path victim = dir.write("victim", "untouched\n");
+  fs::create_symlink(victim, temporary_path_for((dir / "final.csv").string()));
+  write_file_atomically(dir.path().string(), "final.csv", "x\n");
+  EXPECT_EQ(slurp(dir / "final.csv"), "x\n");
+  EXPECT_FALSE(fs::is_symlink(dir / "final.csv"));
+  EXPECT_EQ(slurp(victim), "untouched\n");
+}
+
+TEST(AtomicFile, NeverReplacesACharacterDevice) {
+  if (::geteuid() != 0) GTEST_SKIP() << "creating a device node (mknod) needs root";
+  const TempDir dir;
+  const fs::path device = dir / "full";
+  ASSERT_EQ(::mknod(device.c_str(), S_IFCHR | 0666, makedev(1, 7)), 0);  // a copy of /dev/full
+  const std::string message = output_error_of([&] { write_file_atomically(dir.path().string(), "full", "x\n"); });
+  EXPECT_EQ(message, device.string() + ": cannot write: it is a character device (only a regular file is replaced)");
+  EXPECT_TRUE(fs::is_character_file(fs::symlink_status(device)));
+}
+
+TEST(AtomicFile, AFifoPutInPlaceWhileWritingIsNotReplaced) {
+  // What is at the path is checked again at the rename.
+  const TempDir dir;
+  const std::string path = (dir / "summary.json").string();
+  const std::string message = output_error_of([&] {
+    AtomicFile file(path);
+    file.write("{}\n");
+    ASSERT_EQ(::mkfifo(path.c_str(), 0644), 0);
+    file.commit();
+  });
+  EXPECT_EQ(message, path + ": cannot write: it is a FIFO (only a regular file is replaced)");
+  EXPECT_TRUE(is_fifo_node(path));
+  EXPECT_FALSE(fs::exists(temporary_path_for(path)));
+}
+
+TEST(RenameIntoPlace, NeverReplacesAFifoOrALink) {
+  // The path of the files that libraries write (HDF5, cairo, ffmpeg).
+  const TempDir dir;
+  ASSERT_EQ(::mkfifo((dir / "a.png").c_str(), 0644), 0);
+  fs::create_symlink(dir / "elsewhere.png", dir / "b.png");
+  for (const char* name : {"a.png", "b.png"}) {
+    const std::string path = (dir / name).string();
+    const std::string temporary = fresh_temporary_for(path.substr(0, path.size() - 4) + ".ok");
+    testing::write(temporary, "picture\n");
+    EXPECT_EQ(output_error_of([&] { fresh_temporary_for(path); }).rfind(path + ": cannot write: it is a ", 0), 0u);
+    const std::string message = output_error_of([&] { rename_into_place(temporary, path); });
+    EXPECT_EQ(message.rfind(path + ": cannot write: it is a ", 0), 0u) << message;
+    EXPECT_FALSE(fs::exists(temporary));
+  }
+  EXPECT_TRUE(is_fifo_node(dir / "a.png"));
+  EXPECT_TRUE(fs::is_symlink(dir / "b.png"));
+  EXPECT_FALSE(fs::exists(dir / "elsewhere.png"));
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 // `ballagg verify`: it passes on real runs of every engine and catches doctored files (an
 // overlap, a cluster in two pieces, a wrong summary count, momentum from nowhere).
 #include <algorithm>
+#include <filesystem>
 #include <map>
 #include <sstream>
 
@@ -223,6 +224,83 @@ TEST_F(Verify, NotARunDirectoryIsBadInput) {
   const Outcome o = ballagg({"verify", (tmp_ / "nothing").string()});
   EXPECT_EQ(o.status, 2);
   EXPECT_CONTAINS(o.err, "not a run directory");
+}
+
+
+// ---- Trajectories (docs/verify.md, "Trajectories") ----
+
+namespace fs = std::filesystem;
+
+// The frames of an extended-XYZ trajectory, each its lines.
+std::vector<std::string> xyz_frames(const std::string& path) {
+  std::vector<std::string> frames;
+  std::istringstream in(slurp(path));
+  for (std::string count; std::getline(in, count);) {
+    std::string frame = count + "\n", line;
+    for (int k = 0; k < std::stoi(count) + 1 && std::getline(in, line); ++k) frame += line + "\n";
+    frames.push_back(frame);
+  }
+  return frames;
+}
+
+const std::vector<std::string> kTrajectories = {"output.snapshot_every=0.5", "output.snapshot_formats=[\"xyz\", \"h5md\"]"};
+
+TEST_F(Verify, PassesOnTrajectoriesOfEveryEngine) {
+  expect_verified(run("ed2d", with({"system.n=200"}, kTrajectories)));
+  expect_verified(run("ed3d", with({"system.dimension=3", "system.n=150", "system.boundary=\"periodic\""}, kTrajectories)));
+  expect_verified(run("gas", with({"system.n=100", "collision.outcome=\"bounce\"", "stop.time=3.2"}, kTrajectories)));
+  expect_verified(run("ts", with({"system.n=150", "engine.kind=\"ts\""}, kTrajectories)));
+  expect_verified(run("rigid", with({"system.n=60", "engine.kind=\"rigid-body\"", "stop.clusters=20"}, kTrajectories)));
+  // A frame due at the final instant (stop.time a multiple of snapshot_every).
+  expect_verified(run("on-time", with({"system.n=100", "collision.outcome=\"bounce\"", "stop.time=2"}, kTrajectories)));
+}
+
+TEST_F(Verify, CatchesARepeatedTrajectoryFrame) {
+  // As two writers of one run directory left it: frames after a point written twice.
+  const std::string dir = run("twice", {"system.n=100", "collision.outcome=\"bounce\"", "stop.time=3",
+                                        "output.snapshot_every=0.5", "output.snapshot_formats=[\"xyz\"]"});
+  const std::vector<std::string> frames = xyz_frames(dir + "/trajectory.xyz");
+  ASSERT_EQ(frames.size(), 7u);
+  std::string text;
+  for (std::size_t k = 0; k < frames.size(); ++k) text += frames[k];
+  for (std::size_t k = 4; k < frames.size(); ++k) text += frames[k];
+  testing::write(dir + "/trajectory.xyz", text);
+  expect_violation(dir, "trajectory.xyz: 1 frame(s) out of time order or repeated (frame 7 at t = 2 after frame 6 at t = 3)");
+}
+
+TEST_F(Verify, CatchesTrajectoryFramesOfAnotherRun) {
+  // Frames of a run of another seed and schedule before this run's: a trajectory spliced
+  // from two runs.
+  const std::vector<std::string> gas{"system.n=100", "collision.outcome=\"bounce\"", "stop.time=3",
+                                     "output.snapshot_formats=[\"xyz\"]"};
+  const std::string dir = run("this", with(gas, {"output.snapshot_every=1"}));
+  const std::string other = run("other", with(gas, {"output.snapshot_every=0.25", "initial.seed=9"}));
+  const std::vector<std::string> mine = xyz_frames(dir + "/trajectory.xyz"), theirs = xyz_frames(other + "/trajectory.xyz");
+  ASSERT_EQ(mine.size(), 4u);
+  testing::write(dir + "/trajectory.xyz", theirs[0] + theirs[1] + theirs[2] + mine[3]);
+  expect_violation(dir, "trajectory.xyz: 2 frame(s) not at the run's snapshot times (frame 1 at t = 0.25, where "
+                        "output.snapshot_every = 1 puts it at t = 1)");
+}
+
+TEST_F(Verify, CatchesATrajectoryOfOtherSpheresOrAnotherBoxOrDimension) {
+  const std::vector<std::string> sets{"system.n=100", "collision.outcome=\"bounce\"", "stop.time=2",
+                                      "output.snapshot_every=0.5", "output.snapshot_formats=[\"xyz\", \"h5md\"]"};
+  const std::string dir = run("this", sets);
+  const std::string fewer = run("fewer", with(sets, {"system.n=90", "system.box_length=30"}));
+  const std::string deep = run("deep", with(sets, {"system.dimension=3"}));
+  fs::copy_file(fewer + "/trajectory.xyz", dir + "/trajectory.xyz", fs::copy_options::overwrite_existing);
+  expect_violation(dir, "trajectory.xyz: 5 frame(s) with another number of spheres than the run's 100 (frame 0 has 90)");
+  expect_violation(dir, "trajectory.xyz: 5 frame(s) in another box than the run's side");
+  fs::copy_file(deep + "/trajectory.h5md", dir + "/trajectory.h5md", fs::copy_options::overwrite_existing);
+  expect_violation(dir, "trajectory.h5md: ");
+}
+
+TEST_F(Verify, CatchesATrajectoryTheRunDoesNotWrite) {
+  // The trajectory of an earlier run left beside a run that writes none.
+  const std::string with_frames = run("frames", with({"system.n=100"}, kTrajectories));
+  const std::string dir = run("none", {"system.n=100"});
+  fs::copy_file(with_frames + "/trajectory.h5md", dir + "/trajectory.h5md");
+  expect_violation(dir, "trajectory.h5md: config.toml writes no such trajectory");
 }
 
 }  // namespace

@@ -17,6 +17,18 @@ void add_config_args(CLI::App& cmd, ConfigArgs& args) {
       ->allow_extra_args(false);
 }
 
+// No argument of ballagg means anything when empty: an empty path would otherwise be taken
+// for one not given (`--resume ""` starting a new run, `--out ""` writing to
+// out/<timestamp>), an empty --set is no key. The name of the first option given an
+// empty value, in the command chosen.
+std::optional<std::string> first_empty_argument(const CLI::App& app) {
+  for (const CLI::App* command : app.get_subcommands())
+    for (const CLI::Option* option : command->get_options())
+      for (const std::string& value : option->results())
+        if (value.empty()) return option->get_name();
+  return std::nullopt;
+}
+
 }  // namespace
 
 CommandLine::CommandLine() {
@@ -30,9 +42,11 @@ CommandLine::CommandLine() {
   run->add_option("--seed", seed, "Random seed (overrides initial.seed)")
       ->check(CLI::Range(std::uint64_t{0}, static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())));
   run->add_flag("--quiet,-q", run_options.quiet, "No progress output");
+  run->add_flag("--overwrite", run_options.overwrite,
+                "Replace the run in --out (its files are removed first; other files stay)");
   CLI::Option* resume = run->add_option("--resume", resume_dir, "Continue the interrupted run in RUN_DIR from its checkpoint")
                             ->type_name("RUN_DIR");
-  for (const char* other : {"config", "--set", "--seed", "--out"}) resume->excludes(run->get_option(other));
+  for (const char* other : {"config", "--set", "--seed", "--out", "--overwrite"}) resume->excludes(run->get_option(other));
 
   show = app.add_subcommand("config", "Print the configuration that a run would use, as TOML");
   add_config_args(*show, show_args);
@@ -65,6 +79,10 @@ std::optional<int> parse_command_line(CommandLine& cl, int argc, const char* con
       return kBadInput;
     }
     fmt::print(stderr, "ballagg: error: {} (see ballagg --help)\n", e.what());
+    return kBadInput;
+  }
+  if (const std::optional<std::string> option = first_empty_argument(app)) {
+    fmt::print(stderr, "ballagg: error: {}: an empty argument is not allowed (see ballagg --help)\n", *option);
     return kBadInput;
   }
   return std::nullopt;

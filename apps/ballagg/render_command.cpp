@@ -56,7 +56,8 @@ void check_writable(const std::string& option, const std::string& path) {
   const fs::path p(path);
   std::error_code ec;
   if (fs::is_directory(p, ec)) throw InputError(fmt::format("{} {}: is a directory (give a file name)", option, path));
-  const std::string probe = temporary_path_for(path + ".probe");
+  check_output_path(path);  // a device, FIFO, socket or link there is refused before any work
+  const std::string probe = fresh_temporary_for(path + ".probe");
   std::FILE* f = std::fopen(probe.c_str(), "wb");
   if (f == nullptr) throw InputError(fmt::format("{} {}: cannot write: {}", option, path, std::strerror(errno)));
   std::fclose(f);

@@ -324,3 +324,38 @@ def test_rigid_body_run_loads_with_spins_and_verifies(tmp_path):
         report = ballagg.verify(out)
         assert report["violations"] == [] and report["checks"] > 20
     assert "angular_velocities" not in ballagg.load(ballagg.run(small(), out=str(tmp_path / "ed"))).final
+
+
+# ---- where the module writes -------------------------------------------------------------
+
+def test_write_state_never_replaces_a_fifo_a_link_or_a_device(tmp_path):
+    sim = ballagg.Simulation(small())
+    fifo = tmp_path / "fifo.csv"
+    os.mkfifo(fifo)
+    with pytest.raises(ballagg.OutputError, match="it is a FIFO"):
+        sim.write_state(str(fifo))
+    assert os.path.exists(fifo) and not os.path.isfile(fifo)
+    target = tmp_path / "target.csv"
+    target.write_text("the target\n")
+    (tmp_path / "link.csv").symlink_to(target)
+    with pytest.raises(OSError, match="it is a symbolic link"):
+        sim.write_state(str(tmp_path / "link.csv"))
+    assert os.path.islink(tmp_path / "link.csv") and target.read_text() == "the target\n"
+    if os.geteuid() != 0:
+        pytest.skip("creating a device node (mknod) needs root")
+    device = tmp_path / "full"
+    os.mknod(device, 0o666 | 0o020000, os.makedev(1, 7))  # a copy of /dev/full
+    with pytest.raises(ballagg.OutputError, match="it is a character device"):
+        sim.write_state(str(device))
+    assert not os.path.isfile(device) and os.path.exists(device)
+
+
+def test_run_refuses_a_directory_holding_another_run_unless_overwrite(tmp_path):
+    out = str(tmp_path / "run")
+    ballagg.run(small(stop={"clusters": 150}), out=out)
+    summary = (tmp_path / "run" / "summary.json").read_text()
+    with pytest.raises(ballagg.InputError, match="holds another run"):
+        ballagg.run(small(initial={"seed": 9}), out=out)
+    assert (tmp_path / "run" / "summary.json").read_text() == summary
+    ballagg.run(small(initial={"seed": 9}, stop={"clusters": 150}), out=out, overwrite=True)
+    assert '"seed": 9' in (tmp_path / "run" / "summary.json").read_text()

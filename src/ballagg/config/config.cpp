@@ -179,7 +179,35 @@ auto positive = [](double v) { return v > 0.0; };
 
 // Turns "section.key=value" into a TOML value in root; the value is read as TOML when it
 // parses (numbers, booleans, quoted strings) and as a bare string otherwise (engine.kind=ed).
+// A --set argument as it can be shown on one line: control characters as \n, \t, \xNN.
+std::string printable_argument(const std::string& arg) {
+  std::string out;
+  for (const char c : arg) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '\n') out += "\\n";
+    else if (c == '\t') out += "\\t";
+    else if (c == '\r') out += "\\r";
+    else if (u < 0x20 || u == 0x7f) out += fmt::format("\\x{:02x}", u);
+    else out += c;
+  }
+  return out;
+}
+
+// A control character (a newline, a tab, NUL...) in a --set would be read as the end of
+// the TOML value, the rest of the argument silently dropped or taken as another key.
+void refuse_control_characters(const std::string& arg) {
+  const auto bad = std::find_if(arg.begin(), arg.end(), [](char c) {
+    const auto u = static_cast<unsigned char>(c);
+    return u < 0x20 || u == 0x7f;
+  });
+  if (bad != arg.end())
+    throw InputError(fmt::format("--set \"{}\": control character {} in the argument (one section.key=value per --set, "
+                                 "printable characters only)", printable_argument(arg),
+                                 printable_argument(std::string(1, *bad))));
+}
+
 void apply_override(toml::table& root, const std::string& arg, std::set<std::string>& overridden) {
+  refuse_control_characters(arg);
   const auto eq = arg.find('=');
   const std::string path = arg.substr(0, eq);
   const auto dot = path.find('.');
@@ -503,7 +531,7 @@ Config parse_config_text(std::string_view text, const std::string& source_name, 
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
   if (path.empty()) return parse_config_text("", "(defaults)", overrides);
-  Config c = parse_config_text(read_text_file(path, "config file"), path, overrides);
+  Config c = parse_config_text(read_text_file(path, "config file", kMaxSettingsFileBytes), path, overrides);
   // A relative initial.file written in a config file is relative to that file; one given
   // with --set is relative to the working directory.
   const bool from_set = std::any_of(overrides.begin(), overrides.end(),

@@ -1,6 +1,7 @@
 #include "ballagg/io/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -11,16 +12,33 @@
 
 namespace ballagg {
 
-AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temporary_(temporary_path_for(path_)) {
+namespace {
+
+// The temporary file is opened without following a link and without waiting (a FIFO put
+// in its place since fresh_temporary_for looked), and must then be a regular file.
+constexpr int kTemporaryFlags = O_WRONLY | O_CLOEXEC | O_NOFOLLOW | O_NONBLOCK;
+
+bool regular(int fd) {
+  struct stat st{};
+  return ::fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+}  // namespace
+
+AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temporary_(fresh_temporary_for(path_)) {
   registered_.hold(temporary_);
-  fd_ = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  fd_ = ::open(temporary_.c_str(), kTemporaryFlags | O_CREAT | O_TRUNC, 0644);
   if (fd_ < 0) fail(errno);
+  if (!regular(fd_)) fail(EINVAL);
 }
 
 AtomicFile::AtomicFile(std::string path, std::uint64_t size)
     : path_(std::move(path)), temporary_(temporary_path_for(path_)), keep_(true) {
-  fd_ = ::open(temporary_.c_str(), O_WRONLY | O_APPEND | O_CLOEXEC);
-  if (fd_ < 0 || ::ftruncate(fd_, static_cast<off_t>(size)) != 0) fail(errno);
+  check_output_path(path_);
+  fd_ = ::open(temporary_.c_str(), kTemporaryFlags | O_APPEND);
+  if (fd_ < 0) fail(errno);
+  if (!regular(fd_)) fail(EINVAL);
+  if (::ftruncate(fd_, static_cast<off_t>(size)) != 0) fail(errno);
 }
 
 AtomicFile::~AtomicFile() {
@@ -46,6 +64,15 @@ void AtomicFile::commit() {
   const int fd = std::exchange(fd_, -1);
   // close() can be the first to report a write that did not reach the disk (NFS, quotas).
   if (::close(fd) != 0) fail(errno);
+  // Whatever was put at the path while the file was written is not replaced unless it
+  // is a regular file.
+  try {
+    check_output_path(path_);
+  } catch (const OutputError&) {
+    if (!keep_) std::remove(temporary_.c_str());
+    temporary_.clear();
+    throw;
+  }
   if (std::rename(temporary_.c_str(), path_.c_str()) != 0) fail(errno);
   temporary_.clear();  // it is the file now
   registered_.release();

@@ -3,14 +3,13 @@
 #include <zlib.h>
 
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 
 #include <fmt/format.h>
 
 #include "ballagg/core/run_guard.hpp"
 #include "ballagg/io/atomic_file.hpp"
 #include "ballagg/io/byte_stream.hpp"
+#include "ballagg/io/text_file.hpp"
 
 namespace fs = std::filesystem;
 
@@ -106,14 +105,13 @@ Checkpoint decode_checkpoint(std::string_view bytes, const std::string& source) 
 
 Checkpoint read_checkpoint_file(const std::string& dir) {
   const fs::path path = fs::path(dir) / kCheckpointFile;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    std::error_code ec;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {  // a link to nothing included
     if (fs::exists(fs::path(dir) / "summary.json", ec))
       throw CheckpointError(fmt::format("{}: the run has finished (no {} left to resume from)", dir, kCheckpointFile));
     throw CheckpointError(fmt::format("{}: no checkpoint to resume from ({} missing)", dir, kCheckpointFile));
   }
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = read_text_file(path.string(), "checkpoint", kMaxCheckpointBytes);
   return decode_checkpoint(bytes, path.string());
 }
 

@@ -123,6 +123,20 @@ Frame<D> H5mdReader<D>::frame(int k) const {
   return f;
 }
 
+template <int D>
+std::vector<double> H5mdReader<D>::times() const {
+  std::vector<double> t;
+  try {
+    t = hdf5::read_doubles(impl_->file, "particles/all/position/time");
+  } catch (const std::runtime_error& e) {
+    throw InputError(fmt::format("{}: cannot read the frame times ({})", impl_->path, e.what()));
+  }
+  if (t.size() < static_cast<std::size_t>(impl_->frames))
+    throw InputError(fmt::format("{}: {} frame times for {} frames", impl_->path, t.size(), impl_->frames));
+  t.resize(static_cast<std::size_t>(impl_->frames));
+  return t;
+}
+
 template class H5mdReader<2>;
 template class H5mdReader<3>;
 

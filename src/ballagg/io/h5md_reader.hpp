@@ -3,6 +3,7 @@
 // any one frame. Errors are InputError naming the file (`ballagg render` reports them).
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "ballagg/io/frame.hpp"
 
@@ -18,6 +19,8 @@ class H5mdReader {
   int frames() const;
   const Particles<D>& particles() const;
   Frame<D> frame(int k) const;
+  // The time of every frame, in file order (without reading the frames).
+  std::vector<double> times() const;
 
  private:
   struct Impl;

@@ -95,7 +95,7 @@ struct H5mdWriter<D>::Impl {
       : precision(real) {
     hdf5::quiet_errors();
     target = path;
-    temporary = temporary_path_for(path);
+    temporary = fresh_temporary_for(path);
     registered.hold(temporary.string());
     try {
       create(p, config_toml);
@@ -183,11 +183,13 @@ struct H5mdWriter<D>::Impl {
     temporary = temporary_path_for(path);
     n = p.size();
     periodic = p.box.periodic();
+    check_output_path(path);
     reclaim_completed_file(path);  // killed between completing the trajectory and finishing
     std::error_code ec;
-    if (!std::filesystem::exists(temporary, ec))
-      throw InputError(fmt::format("{}: the trajectory of the checkpointed run is missing (cannot resume it)",
-                                   temporary.string()));
+    if (!std::filesystem::is_regular_file(std::filesystem::symlink_status(temporary, ec)))
+      throw InputError(fmt::format("{}: the trajectory of the checkpointed run is {} (cannot resume it)",
+                                   temporary.string(), std::filesystem::exists(std::filesystem::symlink_status(temporary, ec))
+                                                           ? "not a regular file" : "missing"));
     try {
       reopen(frames);
     } catch (const std::runtime_error& e) {

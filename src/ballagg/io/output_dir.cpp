@@ -1,5 +1,8 @@
 #include "ballagg/io/output_dir.hpp"
 
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
@@ -12,6 +15,7 @@
 #include "ballagg/core/run_guard.hpp"
 #include "ballagg/config/config.hpp"
 #include "ballagg/io/atomic_file.hpp"
+#include "ballagg/io/output_error.hpp"
 
 namespace fs = std::filesystem;
 
@@ -52,8 +56,47 @@ std::string temporary_path_for(const std::string& path) {
   return (p.parent_path() / fmt::format(".{}.tmp", p.filename().string())).string();
 }
 
+namespace {
+
+// What is at a path that is not a regular file, for messages.
+const char* node_kind(mode_t mode) {
+  if (S_ISLNK(mode))
+    return "it is a symbolic link (output files are replaced by renaming, which would replace the link; give the path "
+           "of the file itself)";
+  if (S_ISDIR(mode)) return "it is a directory";
+  if (S_ISCHR(mode)) return "it is a character device (only a regular file is replaced)";
+  if (S_ISBLK(mode)) return "it is a block device (only a regular file is replaced)";
+  if (S_ISFIFO(mode)) return "it is a FIFO (only a regular file is replaced)";
+  if (S_ISSOCK(mode)) return "it is a socket (only a regular file is replaced)";
+  return "it is not a regular file (only a regular file is replaced)";
+}
+
+}  // namespace
+
+void check_output_path(const std::string& path) {
+  struct stat st{};
+  // Nothing there (or a path that cannot be reached: writing will say why).
+  if (::lstat(path.c_str(), &st) != 0 || S_ISREG(st.st_mode)) return;
+  throw OutputError(fmt::format("{}: cannot write: {}", path, node_kind(st.st_mode)));
+}
+
+std::string fresh_temporary_for(const std::string& path) {
+  check_output_path(path);
+  std::string temporary = temporary_path_for(path);
+  struct stat st{};
+  if (::lstat(temporary.c_str(), &st) == 0 && !S_ISREG(st.st_mode) && ::unlink(temporary.c_str()) != 0)
+    throw OutputError(fmt::format("{}: cannot write: its temporary file {}: {}", path, temporary, node_kind(st.st_mode)));
+  return temporary;
+}
+
 void rename_into_place(const std::string& temporary, const std::string& path) {
   std::error_code ec;
+  try {
+    check_output_path(path);
+  } catch (const OutputError&) {
+    fs::remove(temporary, ec);
+    throw;
+  }
   fs::rename(temporary, path, ec);
   if (ec) {
     std::error_code ignored;

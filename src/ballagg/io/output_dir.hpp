@@ -16,8 +16,23 @@ bool prepare_output_dir(const std::string& dir);
 // Where a file is written before it is renamed to `path`: .NAME.tmp in the same directory.
 std::string temporary_path_for(const std::string& path);
 
+// The rule for every output file (docs/outputs.md, "Output files"): it is written where
+// nothing is, or over a regular file, which it replaces. Anything else at `path` is
+// refused, since renaming over it would replace the node itself: a directory, a device, a
+// FIFO, a socket, and a symbolic link whatever it points to (links are not written
+// through; give the path of the file itself). Throws OutputError "PATH: cannot write: it
+// is ...".
+void check_output_path(const std::string& path);
+
+// temporary_path_for(path), ready to be created: `path` checked (check_output_path) and a
+// stale temporary that is not a regular file (a link or a FIFO left in its place) removed,
+// so that what creates it (AtomicFile, HDF5, cairo, ffmpeg) makes a new regular file
+// rather than writing through it. Throws OutputError.
+std::string fresh_temporary_for(const std::string& path);
+
 // Renames the complete file `temporary` to `path` (for files written by a library: HDF5,
-// cairo). On failure removes `temporary` and throws OutputError naming `path`.
+// cairo), after check_output_path(path). On failure removes `temporary` and throws
+// OutputError naming `path`.
 void rename_into_place(const std::string& temporary, const std::string& path);
 
 // Gives a checkpointed run back the temporary file of `path` if the run completed `path`

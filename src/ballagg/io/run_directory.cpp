@@ -25,7 +25,7 @@ RunDirectory open_run_directory(const std::string& dir) {
     throw InputError(fmt::format("{}: not a run directory (no config.toml; give the --out of a ballagg run)", dir));
   run.config = load_config(run.path("config.toml"), {});
   const std::string summary_path = run.path("summary.json");
-  const std::string text = read_text_file(summary_path, "run summary");
+  const std::string text = read_text_file(summary_path, "run summary", kMaxSettingsFileBytes);
   const nlohmann::json summary = nlohmann::json::parse(text, nullptr, false);
   if (summary.is_discarded() || !summary.contains("time") || !summary["time"].is_number())
     throw InputError(fmt::format("{}: not a ballagg summary (no \"time\")", summary_path));

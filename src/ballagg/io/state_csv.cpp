@@ -137,7 +137,7 @@ SphereTable<D> parse_state_csv(const std::string& text, const std::string& sourc
 
 template <int D>
 SphereTable<D> read_state_csv(const std::string& path) {
-  return parse_state_csv<D>(read_text_file(path, "state file"), path);
+  return parse_state_csv<D>(read_text_file(path, "state file", kMaxStateFileBytes), path);
 }
 
 template <int D>

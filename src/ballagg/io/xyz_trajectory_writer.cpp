@@ -17,9 +17,14 @@ namespace {
 // after completing it), checked to hold the `mark` bytes the checkpoint saw. Throws
 // InputError.
 std::uint64_t checked_mark(const std::string& path, std::uint64_t mark) {
+  check_output_path(path);
   reclaim_completed_file(path);
   const std::string temporary = temporary_path_for(path);
   std::error_code ec;
+  const fs::file_status status = fs::symlink_status(temporary, ec);
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw InputError(fmt::format("{}: the trajectory of the checkpointed run is not a regular file (cannot resume it)",
+                                 temporary));
   const std::uintmax_t size = fs::file_size(temporary, ec);
   if (ec || size < mark)
     throw InputError(fmt::format("{}: the trajectory of the checkpointed run is {} (cannot resume it)", temporary,

@@ -70,7 +70,7 @@ cairo_surface_t* render_image(const Scene<D>& s, const PictureOptions& o, cairo_
 template <int D>
 void write_png(const Scene<D>& s, const PictureOptions& o, const std::string& path) {
   cairo_surface_t* surface = render_image(s, o, CAIRO_FORMAT_RGB24);
-  const std::string temporary = temporary_path_for(path);
+  const std::string temporary = fresh_temporary_for(path);
   const cairo_status_t status = cairo_surface_write_to_png(surface, temporary.c_str());
   cairo_surface_destroy(surface);
   commit_file(status, temporary, path);
@@ -79,7 +79,7 @@ void write_png(const Scene<D>& s, const PictureOptions& o, const std::string& pa
 template <int D>
 void write_svg(const Scene<D>& s, const PictureOptions& o, const std::string& path) {
   const Layout l = make_layout(o.width);
-  const std::string temporary = temporary_path_for(path);
+  const std::string temporary = fresh_temporary_for(path);
   cairo_surface_t* surface = cairo_svg_surface_create(temporary.c_str(), l.width, l.height);
   cairo_t* cr = cairo_create(surface);
   draw_picture(cr, s, l, o);

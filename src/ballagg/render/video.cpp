@@ -75,7 +75,7 @@ std::string last_line(const std::string& text) {
 }  // namespace
 
 FfmpegVideo::FfmpegVideo(const std::string& path, int width, int height, double fps)
-    : path_(path), temporary_(temporary_path_for(path)), width_(width), height_(height) {
+    : path_(path), temporary_(fresh_temporary_for(path)), width_(width), height_(height) {
   // A write to ffmpeg after it died must fail with EPIPE, not kill us.
   signal(SIGPIPE, SIG_IGN);
   // ffmpeg's messages go to memory: nothing but the video is written next to it, and a

@@ -8,6 +8,7 @@
 #include "ballagg/analysis/aggregate_analysis.hpp"
 #include "ballagg/config/config.hpp"
 #include "ballagg/io/analysis_files.hpp"
+#include "ballagg/io/directory_lock.hpp"
 #include "ballagg/io/output_dir.hpp"
 #include "ballagg/io/run_directory.hpp"
 
@@ -21,6 +22,7 @@ std::string analyze_in_dimension(const Config& config, const std::string& state_
   const Box<D> box{resolved_box_length(config), config.system.boundary};
   const SphereTable<D> spheres = read_state_in_box<D>(state_file, config);
   prepare_output_dir(out_dir);
+  const DirectoryLock lock(out_dir);  // not while a run writes there
   write_analysis(box, spheres, state_file, out_dir);
   return out_dir;
 }

@@ -27,6 +27,7 @@
 #include "ballagg/run/checkpointer.hpp"
 #include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/progress.hpp"
+#include "ballagg/run/run_files.hpp"
 #include "ballagg/run/snapshots.hpp"
 #include "ballagg/version.hpp"
 
@@ -268,7 +269,10 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
   std::optional<InterruptFlag> interrupts;
   if (options.checkpoint_on_signals) interrupts.emplace();
   const std::string dir = options.out_dir.empty() ? default_output_dir() : options.out_dir;
-  const bool created = !resume && prepare_output_dir(dir);
+  // A resumed run's directory is locked by resume_simulation, before its checkpoint is read.
+  std::optional<NewRunDirectory> fresh;
+  if (!resume) fresh.emplace(open_new_run_directory(dir, options.overwrite));
+  const bool created = fresh && fresh->created;
 
   // Polled by the engine and the recorders: the wall-clock limit, signals, output caps.
   RunGuard guard(stop.wall_seconds);
@@ -315,6 +319,7 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
     // Bad input found during the run (coefficients that would create energy): leave
     // nothing behind, as for input rejected before the run.
     std::error_code ec;
+    fresh.reset();  // the lock file goes first
     if (created) std::filesystem::remove(dir, ec);
     throw;
   }
@@ -364,6 +369,11 @@ std::string run_simulation(const Config& config, const RunOptions& options) {
 }
 
 std::string resume_simulation(const std::string& dir, const RunOptions& options) {
+  // Locked before the checkpoint is read: a second resume of the same directory is
+  // refused, and cannot start from a checkpoint the first has finished with.
+  std::error_code ec;
+  std::optional<DirectoryLock> lock;
+  if (std::filesystem::is_directory(dir, ec)) lock.emplace(dir);
   const Checkpoint checkpoint = read_checkpoint_file(dir);
   const Config config = parse_config_text(checkpoint.config_toml, (std::filesystem::path(dir) / kCheckpointFile).string());
   if (config.system.dimension != checkpoint.dimension)

@@ -20,6 +20,7 @@
 #include "ballagg/io/run_directory.hpp"
 #include "ballagg/io/state_csv.hpp"
 #include "ballagg/io/text_file.hpp"
+#include "ballagg/run/verify_trajectory.hpp"
 
 namespace ballagg {
 namespace {
@@ -54,6 +55,7 @@ class Checker {
     if (!holds) out_.violations.push_back(violation);
   }
   void note(const std::string& why) { out_.notes.push_back(why); }
+  Verification& result() { return out_; }
   // |a - b| <= tol * scale.
   void close(const char* what, double a, double b, double scale, double tol) {
     check(std::abs(a - b) <= tol * scale, fmt::format("{}: summary.json says {}, the final state gives {}", what, a, b));
@@ -152,6 +154,7 @@ void verify_in_dimension(const RunDirectory& run, const Summary& summary, Checke
     sigma_min = std::min(sigma_min, 2.0 * r);
     r_max = std::max(r_max, r);
   }
+  verify_trajectories<D>(run, summary.number("time"), coalescing ? 0 : n, r_max, c.result());
   {
     std::vector<int> outside;
     for (int i = 0; i < n; ++i)
@@ -302,7 +305,7 @@ void verify_timeseries(const RunDirectory& run, const Summary& summary, Checker&
     c.note("no timeseries.csv");
     return;
   }
-  std::istringstream in(read_text_file(run.path("timeseries.csv"), "time series"));
+  std::istringstream in(read_text_file(run.path("timeseries.csv"), "time series", kMaxStateFileBytes));
   std::string header, line, last;
   std::getline(in, header);
   while (std::getline(in, line))
@@ -329,7 +332,7 @@ void verify_timeseries(const RunDirectory& run, const Summary& summary, Checker&
 
 Verification verify_run(const std::string& dir) {
   const RunDirectory run = open_run_directory(dir);
-  Summary summary{nlohmann::json::parse(read_text_file(run.path("summary.json"), "run summary"), nullptr, false),
+  Summary summary{nlohmann::json::parse(read_text_file(run.path("summary.json"), "run summary", kMaxSettingsFileBytes), nullptr, false),
                   run.path("summary.json")};
   Verification out;
   Checker c(out);

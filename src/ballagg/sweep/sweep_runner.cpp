@@ -4,6 +4,7 @@
 #include <atomic>
 #include <filesystem>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include <fmt/format.h>
@@ -13,6 +14,7 @@
 #endif
 
 #include "ballagg/core/run_guard.hpp"
+#include "ballagg/io/directory_lock.hpp"
 #include "ballagg/io/output_dir.hpp"
 #include "ballagg/io/text_file.hpp"
 #include "ballagg/run/analyze_run.hpp"
@@ -29,6 +31,14 @@ constexpr const char* kSweepCopy = "sweep.toml";  // the sweep file as started, 
 
 fs::path run_dir(const SweepOptions& o, const SweepRun& r) { return fs::path(o.out_dir) / "runs" / r.name; }
 
+// A directory with no file but the lock file a killed sweep may leave.
+bool empty_but_for_a_lock(const fs::path& dir) {
+  std::error_code ec;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec))
+    if (e.path().filename() != kLockFile) return false;
+  return !ec;
+}
+
 // Checks that out_dir can hold this sweep: a fresh or empty directory, or (with --resume)
 // one started from the same sweep file. Every process checks, only the first writes.
 void check_sweep_dir(const SweepSpec& spec, const SweepOptions& o) {
@@ -40,12 +50,12 @@ void check_sweep_dir(const SweepSpec& spec, const SweepOptions& o) {
     if (!o.resume)
       throw InputError(fmt::format("--out {}: holds a sweep already (use --resume to continue it, or another --out)",
                                    o.out_dir));
-    if (read_text_file(copy.string(), "sweep copy") != spec.text)
+    if (read_text_file(copy.string(), "sweep copy", kMaxSettingsFileBytes) != spec.text)
       throw InputError(fmt::format("{}: differs from {}, the file this sweep was started with (a resumed sweep must "
                                    "keep its grid)", spec.source, copy.string()));
     return;
   }
-  if (fs::exists(o.out_dir, ec) && !fs::is_empty(o.out_dir, ec))
+  if (fs::exists(o.out_dir, ec) && !empty_but_for_a_lock(o.out_dir))
     throw InputError(fmt::format("--out {}: not empty and not a sweep directory (no {})", o.out_dir, kSweepCopy));
 }
 
@@ -59,8 +69,24 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Commu
   const std::vector<SweepRun> runs = sweep_runs(spec, points);  // every configuration checked
   check_sweep_dir(spec, o);
   world.barrier();  // every process has checked before the first writes
+  // The first process locks the sweep directory for the whole sweep: a second sweep
+  // started on it (with --resume or not) is refused by every process of its job.
+  std::optional<DirectoryLock> lock;
+  std::string refusal;
   if (world.rank() == 0) {
-    prepare_output_dir(o.out_dir);
+    const bool created = prepare_output_dir(o.out_dir);
+    try {
+      lock.emplace(o.out_dir);
+    } catch (const InputError& e) {
+      refusal = e.what();
+      std::error_code ec;
+      if (created) fs::remove(o.out_dir, ec);
+    }
+  }
+  if (world.sum(refusal.empty() ? 0 : 1) > 0)
+    throw InputError(!refusal.empty() ? refusal
+                                      : fmt::format("{}: another ballagg process is writing this directory", o.out_dir));
+  if (world.rank() == 0) {
     if (!fs::exists(fs::path(o.out_dir) / kSweepCopy)) write_file_atomically(o.out_dir, kSweepCopy, spec.text);
     fs::create_directories(fs::path(o.out_dir) / "runs");
   }
@@ -87,7 +113,11 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Commu
       const SweepRun& r = *mine[k];
       const fs::path dir = run_dir(o, r);
       try {
-        if (!finished(dir)) run_simulation(r.config, {dir.string(), true, false, false});
+        // An unfinished run (the sweep was stopped during it) starts again from the beginning,
+        // replacing its files.
+        RunOptions options{dir.string(), true, false, false};
+        options.overwrite = true;
+        if (!finished(dir)) run_simulation(r.config, options);
         analyze_run({dir.string(), "", "", ""});
         std::error_code ec;
         fs::remove(dir / "error.txt", ec);  // left by an earlier attempt

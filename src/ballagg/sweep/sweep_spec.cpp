@@ -186,7 +186,7 @@ SweepSpec parse_sweep_text(const std::string& text, const std::string& source) {
   return spec;
 }
 
-SweepSpec load_sweep(const std::string& path) { return parse_sweep_text(read_text_file(path, "sweep file"), path); }
+SweepSpec load_sweep(const std::string& path) { return parse_sweep_text(read_text_file(path, "sweep file", kMaxSettingsFileBytes), path); }
 
 std::vector<SweepPoint> sweep_points(const SweepSpec& spec) {
   std::vector<SweepPoint> points;

@@ -96,7 +96,15 @@ std::vector<std::string> split_commas(const std::string& line) {
   return out;
 }
 
+// A run's files are read only when they are regular files: anything else (a FIFO, a
+// device) would never end; such a file counts as missing.
+bool readable_file(const fs::path& path) {
+  std::error_code ec;
+  return fs::is_regular_file(path, ec);
+}
+
 std::optional<NumericTable> read_numeric_csv(const fs::path& path) {
+  if (!readable_file(path)) return std::nullopt;
   std::ifstream in(path);
   if (!in) return std::nullopt;
   NumericTable t;
@@ -112,6 +120,7 @@ std::optional<NumericTable> read_numeric_csv(const fs::path& path) {
 }
 
 std::optional<Json> read_json(const fs::path& path) {
+  if (!readable_file(path)) return std::nullopt;
   std::ifstream in(path);
   if (!in) return std::nullopt;
   try {
