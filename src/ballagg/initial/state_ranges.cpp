@@ -82,7 +82,8 @@ void check_state_ranges(const SphereTable<D>& t, const Box<D>& box, const Config
 
 template <int D>
 void check_resolved_ranges(const Config& c, const State<D>& s) {
-  if (c.engine.kind == EngineKind::ts || !c.engine.skin || !s.box.periodic()) return;
+  const bool listed = c.engine.kind == EngineKind::ed || c.engine.kind == EngineKind::rigid_body;  // engines with a skin
+  if (!listed || !c.engine.skin || !s.box.periodic()) return;
   // The engines shorten the skin so that every listed pair stays closer than half a
   // periodic box (choose_skin of the ed and rigid-body engines).
   const double room = 0.99 * (0.5 * s.box.length - 2.0 * s.max_radius()) / 1.5;
