@@ -50,6 +50,7 @@ TEST(ValueRanges, KeysOutsideTheirRangesAreRefusedWithTheRange) {
       {"initial", "speed", "1e300", "at most 1e+20"},
       {"initial", "speed", "2e20", "at most 1e+20"},
       {"system", "box_length", "1e27", "at most 1e+26"},
+      {"ts", "dt_factor", "1e-300", "at least 1e-09"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.section + "." + c.key + " = " + c.value);
@@ -63,7 +64,7 @@ TEST(ValueRanges, KeysOutsideTheirRangesAreRefusedWithTheRange) {
 TEST(ValueRanges, TheBoundsThemselvesAreAccepted) {
   for (const std::string text : {"[system]\nradius = 1e-20\nmass = 1e-30\n", "[system]\nradius = 1e20\nmass = 1e30\n",
                                  "[initial]\nspeed = 1e20\n", "[system]\nbox_length = 2e5\n",
-                                 "[engine]\nskin = 2e-7\n"}) {
+                                 "[engine]\nskin = 2e-7\n", "[ts]\ndt_factor = 1e-9\n"}) {
     SCOPED_TRACE(text);
     EXPECT_NO_THROW(parse_config_text(text, "run.toml"));
   }
@@ -244,6 +245,11 @@ TEST(ValueRanges, AnEventLoopWhoseTimeStopsAdvancingEndsWithAnError) {
     EXPECT_CONTAINS(e.what(), "the simulated time stopped advancing at t = 1");
   }
   EXPECT_EQ(core.count.events, kMaxEventsAtInstantPerSphere * 4 + kMaxEventsAtInstantFloor + 1);
+  // With a wall-clock limit the limit ends it, as it ends any run.
+  StuckCore limited;
+  StopCriteria stop;
+  stop.wall_seconds = 0.05;
+  EXPECT_EQ(run_event_loop(limited, s, stop, quiet).reason, StopReason::wall_seconds);
 }
 
 TEST(ValueRanges, ACellGridOverABoxThatIsNotFiniteIsAnError) {

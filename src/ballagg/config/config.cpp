@@ -174,7 +174,13 @@ class SectionReader {
 };
 
 auto positive = [](double v) { return v > 0.0; };
-auto within = [](double lo, double hi) { return [lo, hi](double v) { return v >= lo && v <= hi; }; };
+
+// A value that passed its key's sign check but lies outside the magnitudes the engines'
+// arithmetic handles (value_ranges.hpp) is refused with that range.
+void refuse_outside(SectionReader& r, const std::string& key, std::optional<double> v, double lo, double hi,
+                    const std::string& allowed) {
+  if (v && (*v < lo || *v > hi)) r.refuse(key, allowed);
+}
 
 // Turns "section.key=value" into a TOML value in root; the value is read as TOML when it
 // parses (numbers, booleans, quoted strings) and as a bare string otherwise (engine.kind=ed).
@@ -220,8 +226,11 @@ TimeSteppingSettings read_ts_section(const toml::table& root, const std::string&
   d = default_daha(t.model);  // each model's own; the keys below override them
   if (auto v = ts.choice("dt_rule", {"growth", "adaptive"})) t.dt_rule = static_cast<TsDtRule>(*v);
   if (auto v = ts.choice("fall_back", {"retreat", "keep-flight"})) t.fall_back = static_cast<TsFallBack>(*v);
-  if (auto v = ts.real("dt_factor", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]"))
-    t.dt_factor = *v;
+  const auto dt_factor = ts.real("dt_factor", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]");
+  refuse_outside(ts, "dt_factor", dt_factor, range::kMinDtFactor, 1.0,
+                 fmt::format("must be at least {:g} (a step must move the fastest sphere by a length positions "
+                             "resolve)", range::kMinDtFactor));
+  if (dt_factor) t.dt_factor = *dt_factor;
   if (auto v = ts.real("dt_growth", [](double v) { return v >= 1.0 && v <= 1e3; }, "must be a number in [1, 1000]"))
     t.dt_growth = *v;
   t.delta_w = ts.real("delta_w", positive, "must be a number > 0 (a length; default 4 R)");
@@ -391,17 +400,20 @@ Config read_config(const toml::table& root, const std::string& source, const std
   if (auto v = sys.integer("n", 1, 100'000'000, "must be an integer from 1 to 100000000")) c.system.n = *v;
   c.system.volume_fraction = sys.real("volume_fraction", [](double v) { return v > 0.0 && v < 1.0; },
                                       "must be a number in (0, 1)");
-  c.system.box_length = sys.real("box_length", [](double v) { return v > 0.0 && v <= range::kMaxBoxLength; },
-                                 fmt::format("must be a number > 0, at most {:g} ({:g} times the largest radius allowed)",
-                                             range::kMaxBoxLength, range::kMaxBoxToRadius));
-  if (auto v = sys.real("radius", within(range::kMinRadius, range::kMaxRadius),
-                        fmt::format("must be a number > 0, from {:g} to {:g} (choose units in which radii are near 1)",
-                                    range::kMinRadius, range::kMaxRadius)))
-    c.system.radius = *v;
-  if (auto v = sys.real("mass", within(range::kMinMass, range::kMaxMass),
-                        fmt::format("must be a number > 0, from {:g} to {:g} (choose units in which masses are near 1)",
-                                    range::kMinMass, range::kMaxMass)))
-    c.system.mass = *v;
+  c.system.box_length = sys.real("box_length", positive, "must be a number > 0");
+  refuse_outside(sys, "box_length", c.system.box_length, 0.0, range::kMaxBoxLength,
+                 fmt::format("must be at most {:g} ({:g} times the largest radius allowed)", range::kMaxBoxLength,
+                             range::kMaxBoxToRadius));
+  const auto radius = sys.real("radius", positive, "must be a number > 0");
+  refuse_outside(sys, "radius", radius, range::kMinRadius, range::kMaxRadius,
+                 fmt::format("must be from {:g} to {:g} (choose units in which radii are near 1)", range::kMinRadius,
+                             range::kMaxRadius));
+  if (radius) c.system.radius = *radius;
+  const auto mass = sys.real("mass", positive, "must be a number > 0");
+  refuse_outside(sys, "mass", mass, range::kMinMass, range::kMaxMass,
+                 fmt::format("must be from {:g} to {:g} (choose units in which masses are near 1)", range::kMinMass,
+                             range::kMaxMass));
+  if (mass) c.system.mass = *mass;
   if (auto v = sys.choice("boundary", {"walls", "periodic"})) c.system.boundary = static_cast<Boundary>(*v);
   sys.reject_unknown_keys();
 
@@ -409,10 +421,10 @@ Config read_config(const toml::table& root, const std::string& source, const std
   if (auto v = ini.choice("positions", {"lattice", "random", "file"})) c.initial.positions = static_cast<InitialPositions>(*v);
   if (auto v = ini.choice("velocities", {"fixed-speed", "uniform", "gaussian"}))
     c.initial.velocities = static_cast<InitialVelocities>(*v);
-  if (auto v = ini.real("speed", within(0.0, range::kMaxSpeed),
-                        fmt::format("must be a number >= 0, at most {:g} (choose units in which speeds are near 1)",
-                                    range::kMaxSpeed)))
-    c.initial.speed = *v;
+  const auto speed = ini.real("speed", [](double v) { return v >= 0.0; }, "must be a number >= 0");
+  refuse_outside(ini, "speed", speed, 0.0, range::kMaxSpeed,
+                 fmt::format("must be at most {:g} (choose units in which speeds are near 1)", range::kMaxSpeed));
+  if (speed) c.initial.speed = *speed;
   if (auto v = ini.string("file", "must be a file name (a string)")) c.initial.file = *v;
   if (auto v = ini.boolean("zero_momentum")) c.initial.zero_momentum = *v;
   if (auto v = ini.integer("seed", 0, std::numeric_limits<std::int64_t>::max(), "must be an integer >= 0"))

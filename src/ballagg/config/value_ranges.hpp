@@ -53,6 +53,12 @@ inline constexpr double kMinSkinToRadius = 1e-6;
 // bound keeps skin^2 finite. The default skin never exceeds 1.3 box lengths.
 inline constexpr double kMaxSkinToBox = 10.0;
 
+// The time-stepping engine's first step over the box crossing time (ts.dt_factor): each
+// step moves the fastest sphere dt_factor L, which positions at the box's scale must
+// resolve (1e-9 L: 4.5 million units in the last place); a smaller factor only stepped
+// the time forward by amounts no position could follow.
+inline constexpr double kMinDtFactor = 1e-9;
+
 // Coordinates of a state file in a periodic box: at most this many box lengths outside
 // [0, L]. Folding a coordinate far outside keeps its rounding error, which is relative to
 // the coordinate, not to the box.
