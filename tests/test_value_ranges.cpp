@@ -152,7 +152,7 @@ TEST_F(StateFileRanges, RadiiMassesSpeedsAndSpinsOutsideTheirRangesAreRefusedWit
 TEST_F(StateFileRanges, APeriodicCoordinateFarOutsideTheBoxIsRefused) {
   const std::string m = error_of("x,y,vx,vy,radius,mass", "1,1,0,0,0.2,1\n1,25,0,0,0.2,1\n", Boundary::periodic);
   EXPECT_CONTAINS(m, file() + ":3: column y: 25 is more than 1 box length outside [0, 10]");
-  // One box length outside is folded in as before.
+  // One box length outside is folded into the box.
   const auto path = dir_.write("near.csv", "x,y,vx,vy,radius,mass\n1,1,0,0,0.2,1\n1,-5,0,0,0.2,1\n");
   Config c;
   c.initial.positions = InitialPositions::file;

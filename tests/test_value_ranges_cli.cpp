@@ -1,7 +1,8 @@
-// Finite but extreme values through the binary: each command that crashed, hung or wrote
-// NaN now ends with the bad-input contract (exit status 2, one line on stderr naming the
-// key or the file line and the allowed range, no output directory), and runs at the
-// corners of the allowed ranges finish with finite totals in every engine.
+// Finite but extreme values through the binary: radii, masses, speeds, skins and boxes
+// whose arithmetic would overflow or lose all precision end with the bad-input contract
+// (exit status 2, one line on stderr naming the key or the file line and the allowed
+// range, no output directory), and runs at the corners of the allowed ranges finish with
+// finite totals in every engine.
 #include <algorithm>
 #include <cmath>
 #include <filesystem>

@@ -47,7 +47,7 @@ inline constexpr double kMaxBoxLength = kMaxBoxToRadius * kMaxRadius;
 // Neighbour-list skin over the smallest radius: each cluster's lists expire after it moved
 // skin / 2, so the skin must be resolved by positions at the box's scale (at the smallest
 // skin and the largest box, 1e-12 L: 4500 units in the last place) and its square must
-// not underflow; a skin of 1e-300 rebuilt the lists at one instant for ever.
+// not underflow (a skin of 1e-300 would rebuild the lists at one instant for ever).
 inline constexpr double kMinSkinToRadius = 1e-6;
 // Neighbour-list skin over the box length: a longer skin lists every pair already; the
 // bound keeps skin^2 finite. The default skin never exceeds 1.3 box lengths.
@@ -55,8 +55,8 @@ inline constexpr double kMaxSkinToBox = 10.0;
 
 // The time-stepping engine's first step over the box crossing time (ts.dt_factor): each
 // step moves the fastest sphere dt_factor L, which positions at the box's scale must
-// resolve (1e-9 L: 4.5 million units in the last place); a smaller factor only stepped
-// the time forward by amounts no position could follow.
+// resolve (1e-9 L: 4.5 million units in the last place); a smaller factor steps the time
+// forward by amounts no position can follow.
 inline constexpr double kMinDtFactor = 1e-9;
 
 // Coordinates of a state file in a periodic box: at most this many box lengths outside
