@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
+#include "ballagg/config/value_ranges.hpp"
 #include "ballagg/io/text_file.hpp"
 
 namespace ballagg {
@@ -130,6 +131,9 @@ class SectionReader {
     }
   }
 
+  // Refuses the value given for `key` (a rule that involves other keys too).
+  [[noreturn]] void refuse(const std::string& key, const std::string& allowed) { fail(*find(key), key, allowed); }
+
   [[noreturn]] void fail(const toml::node& node, const std::string& key, const std::string& allowed) const {
     std::ostringstream value;
     if (node.is_string()) value << '"' << *node.value<std::string>() << '"';
@@ -176,6 +180,13 @@ class SectionReader {
 };
 
 auto positive = [](double v) { return v > 0.0; };
+
+// A value that passed its key's sign check but lies outside the magnitudes the engines'
+// arithmetic handles (value_ranges.hpp) is refused with that range.
+void refuse_outside(SectionReader& r, const std::string& key, std::optional<double> v, double lo, double hi,
+                    const std::string& allowed) {
+  if (v && (*v < lo || *v > hi)) r.refuse(key, allowed);
+}
 
 // Turns "section.key=value" into a TOML value in root; the value is read as TOML when it
 // parses (numbers, booleans, quoted strings) and as a bare string otherwise (engine.kind=ed).
@@ -249,8 +260,11 @@ TimeSteppingSettings read_ts_section(const toml::table& root, const std::string&
   d = default_daha(t.model);  // each model's own; the keys below override them
   if (auto v = ts.choice("dt_rule", {"growth", "adaptive"})) t.dt_rule = static_cast<TsDtRule>(*v);
   if (auto v = ts.choice("fall_back", {"retreat", "keep-flight"})) t.fall_back = static_cast<TsFallBack>(*v);
-  if (auto v = ts.real("dt_factor", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]"))
-    t.dt_factor = *v;
+  const auto dt_factor = ts.real("dt_factor", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]");
+  refuse_outside(ts, "dt_factor", dt_factor, range::kMinDtFactor, 1.0,
+                 fmt::format("must be at least {:g} (a step must move the fastest sphere by a length positions "
+                             "resolve)", range::kMinDtFactor));
+  if (dt_factor) t.dt_factor = *dt_factor;
   if (auto v = ts.real("dt_growth", [](double v) { return v >= 1.0 && v <= 1e3; }, "must be a number in [1, 1000]"))
     t.dt_growth = *v;
   t.delta_w = ts.real("delta_w", positive, "must be a number > 0 (a length; default 4 R)");
@@ -362,6 +376,42 @@ void check_rigid_body_rules(const Config& c, const std::vector<std::string>& giv
     throw InputError(fmt::format("{}: collision.mu_p = {}: in 2D the contact has one tangent (use mu_t)", source, k.mu_p));
 }
 
+// x rounded up to three significant digits: a bound to quote that is itself allowed.
+double rounded_up(double x) {
+  const double unit = std::pow(10.0, std::floor(std::log10(x)) - 2.0);
+  return std::ceil(x / unit) * unit;
+}
+
+// The box and the skin against the radius (value_ranges.hpp). A state file gives its own
+// radii: initial/state_ranges.cpp checks those runs against them.
+void check_length_ratios(const Config& c, SectionReader& sys, SectionReader& eng) {
+  const double radius = c.system.radius, box = resolved_box_length(c);
+  if (c.system.box_length && *c.system.box_length > range::kMaxBoxToRadius * radius)
+    sys.refuse("box_length", fmt::format("must be at most {:g} times system.radius = {}: positions at a larger box's "
+                                         "scale cannot resolve a contact", range::kMaxBoxToRadius, radius));
+  if (c.system.volume_fraction) {
+    // The box in radii, (n * unit volume / Vf)^(1/D), without the radius (whose powers
+    // could overflow).
+    const int d = c.system.dimension;
+    const double unit = d == 2 ? std::numbers::pi : 4.0 / 3.0 * std::numbers::pi;
+    const double n = static_cast<double>(c.system.n);
+    const double radii = std::pow(n * unit / *c.system.volume_fraction, 1.0 / d);
+    if (radii > range::kMaxBoxToRadius)
+      sys.refuse("volume_fraction",
+                 fmt::format("with system.n = {} the box would be {:.3g} radii long, more than the {:g} at which "
+                             "positions resolve a contact: must be at least {:.3g} for this n",
+                             c.system.n, radii, range::kMaxBoxToRadius,
+                             rounded_up(n * unit / std::pow(range::kMaxBoxToRadius, d))));
+  }
+  if (c.engine.skin) {
+    const double lo = range::kMinSkinToRadius * radius, hi = range::kMaxSkinToBox * box;
+    if (*c.engine.skin < lo || *c.engine.skin > hi)
+      eng.refuse("skin", fmt::format("must be from {} to {} ({:g} times system.radius to {:g} box lengths): a "
+                                     "shorter skin is below the resolution of positions, a longer one lists every "
+                                     "pair already", lo, hi, range::kMinSkinToRadius, range::kMaxSkinToBox));
+  }
+}
+
 Config read_config(const toml::table& root, const std::string& source, const std::set<std::string>& overridden) {
   static const std::set<std::string> sections{"system", "initial", "collision", "engine", "ts", "stop", "output"};
   for (auto&& [k, node] : root) {
@@ -385,8 +435,19 @@ Config read_config(const toml::table& root, const std::string& source, const std
   c.system.volume_fraction = sys.real("volume_fraction", [](double v) { return v > 0.0 && v < 1.0; },
                                       "must be a number in (0, 1)");
   c.system.box_length = sys.real("box_length", positive, "must be a number > 0");
-  if (auto v = sys.real("radius", positive, "must be a number > 0")) c.system.radius = *v;
-  if (auto v = sys.real("mass", positive, "must be a number > 0")) c.system.mass = *v;
+  refuse_outside(sys, "box_length", c.system.box_length, 0.0, range::kMaxBoxLength,
+                 fmt::format("must be at most {:g} ({:g} times the largest radius allowed)", range::kMaxBoxLength,
+                             range::kMaxBoxToRadius));
+  const auto radius = sys.real("radius", positive, "must be a number > 0");
+  refuse_outside(sys, "radius", radius, range::kMinRadius, range::kMaxRadius,
+                 fmt::format("must be from {:g} to {:g} (choose units in which radii are near 1)", range::kMinRadius,
+                             range::kMaxRadius));
+  if (radius) c.system.radius = *radius;
+  const auto mass = sys.real("mass", positive, "must be a number > 0");
+  refuse_outside(sys, "mass", mass, range::kMinMass, range::kMaxMass,
+                 fmt::format("must be from {:g} to {:g} (choose units in which masses are near 1)", range::kMinMass,
+                             range::kMaxMass));
+  if (mass) c.system.mass = *mass;
   if (auto v = sys.choice("boundary", {"walls", "periodic"})) c.system.boundary = static_cast<Boundary>(*v);
   sys.reject_unknown_keys();
 
@@ -394,7 +455,10 @@ Config read_config(const toml::table& root, const std::string& source, const std
   if (auto v = ini.choice("positions", {"lattice", "random", "file"})) c.initial.positions = static_cast<InitialPositions>(*v);
   if (auto v = ini.choice("velocities", {"fixed-speed", "uniform", "gaussian"}))
     c.initial.velocities = static_cast<InitialVelocities>(*v);
-  if (auto v = ini.real("speed", [](double v) { return v >= 0.0; }, "must be a number >= 0")) c.initial.speed = *v;
+  const auto speed = ini.real("speed", [](double v) { return v >= 0.0; }, "must be a number >= 0");
+  refuse_outside(ini, "speed", speed, 0.0, range::kMaxSpeed,
+                 fmt::format("must be at most {:g} (choose units in which speeds are near 1)", range::kMaxSpeed));
+  if (speed) c.initial.speed = *speed;
   if (auto v = ini.string("file", "must be a file name (a string)")) c.initial.file = *v;
   if (auto v = ini.boolean("zero_momentum")) c.initial.zero_momentum = *v;
   if (auto v = ini.integer("seed", 0, std::numeric_limits<std::int64_t>::max(), "must be an integer >= 0"))
@@ -482,6 +546,7 @@ Config read_config(const toml::table& root, const std::string& source, const std
       throw InputError(fmt::format("{}: system.volume_fraction = {}: no packing of equal {} is that dense (the densest is {:.4f})",
                                    source, *c.system.volume_fraction, c.system.dimension == 2 ? "discs" : "spheres", densest));
   }
+  if (!from_file) check_length_ratios(c, sys, eng);
   return c;
 }
 

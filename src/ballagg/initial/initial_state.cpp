@@ -13,6 +13,7 @@
 #include "ballagg/core/random.hpp"
 #include "ballagg/core/tolerances.hpp"
 #include "ballagg/initial/sphere_layout_check.hpp"
+#include "ballagg/initial/state_ranges.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
 
 namespace ballagg {
@@ -340,6 +341,7 @@ State<D> make_initial_state(const Config& c) {
   SphereTable<D> table;
   if (c.initial.positions == InitialPositions::file) {
     table = read_state_csv<D>(c.initial.file);
+    check_state_ranges(table, box, c);
   } else {
     table.position = c.initial.positions == InitialPositions::lattice ? lattice_positions<D>(c, box)
                                                                       : random_positions<D>(c, box);

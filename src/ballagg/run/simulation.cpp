@@ -18,6 +18,7 @@
 #include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
 #include "ballagg/engines/time_stepping/time_stepping_engine.hpp"
 #include "ballagg/initial/initial_state.hpp"
+#include "ballagg/initial/state_ranges.hpp"
 #include "ballagg/io/byte_stream.hpp"
 #include "ballagg/io/checkpoint_file.hpp"
 #include "ballagg/io/output_dir.hpp"
@@ -50,6 +51,7 @@ Config resolve_defaults(Config c, const State<D>& s) {
     // Richardson §3: the initial mean kinetic energy per body.
     c.collision.energy_threshold = total_kinetic_energy(s) / s.n_clusters();
   }
+  check_resolved_ranges(c, s);
   return c;
 }
 

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "ballagg/core/vec.hpp"
@@ -20,6 +21,10 @@ class GridGeometry {
   // The number of cells is also capped near `max_cells_per_item * n_items`, so a dilute
   // system in a huge box does not allocate a huge, empty grid (larger cells stay correct).
   GridGeometry(const Box<D>& box, double min_cell_size, int n_items, double max_cells_per_item = 2.0) : box_(box) {
+    // The input ranges (config/value_ranges.hpp) keep both finite; a NaN here would make
+    // the cell count undefined.
+    if (!(std::isfinite(box.length) && box.length > 0.0 && min_cell_size > 0.0))
+      throw std::logic_error("cell grid: the box length and the cell size must be positive numbers");
     const double by_size = std::floor(box.length / min_cell_size);
     const double by_count = std::ceil(std::pow(max_cells_per_item * std::max(n_items, 1), 1.0 / D));
     per_side_ = static_cast<int>(std::clamp(std::min(by_size, by_count), 1.0, 1e6));

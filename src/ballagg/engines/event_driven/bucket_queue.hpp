@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 namespace ballagg {
@@ -48,8 +49,12 @@ class BucketQueue {
   std::size_t size() const { return size_; }
   bool contains(int k) const { return key_[k].bucket != kAbsent; }
 
-  // Files key k at `time` (moving it if it was filed already). `time` is not NaN.
+  // Files key k at `time` (moving it if it was filed already). `time` must be finite: a
+  // NaN has no bucket and a queue of keys at +infinity has no earliest bucket, so either
+  // would make top() search for ever. Engines file only events that happen; an engine
+  // that computes another time is broken, and says so here rather than hanging.
   void update(int k, double time) {
+    if (!std::isfinite(time)) throw std::logic_error("event calendar: an event at a time that is not finite");
     // Within a bucket list order does not matter: an unchanged time needs no move.
     if (key_[k].bucket >= 0 && key_[k].time == time) return;
     if (contains(k)) detach(k); else ++size_;

@@ -160,7 +160,7 @@ class EventCalendar {
         e.stamp_a = r.get<std::uint64_t>("event stamp");
         e.stamp_b = r.get<std::uint64_t>("event stamp");
         e.kind = r.get<EventKind>("event kind");
-        if (std::isnan(e.time)) r.fail("event at no time");
+        if (!std::isfinite(e.time)) r.fail("event at a time that is not finite");
         check(e);
         mine.push_back(e);
       }

@@ -7,6 +7,8 @@
 #include <string>
 #include <string_view>
 
+#include <fmt/format.h>
+
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/engine.hpp"
 #include "ballagg/collision/contact_time.hpp"
@@ -41,6 +43,16 @@ struct EventLoopState {
 // many events of its wall-clock limit or of a signal.
 inline constexpr std::int64_t kEventsPerClockCheck = 256;
 
+// Events at one instant are legitimate (a lattice start, a contact cascade, a chain of
+// inelastic bounces converging), but a few per sphere, far below these. More means the
+// intervals between events have fallen below the resolution of the simulated time (a
+// time t is resolved to 2.2e-16 t: docs/hardening.md), as in an inelastic collapse
+// without the TC model. A run with a wall-clock limit waits for it (the user said how
+// long); one without stops with an error instead of handling events at that instant for
+// ever.
+inline constexpr std::int64_t kMaxEventsAtInstantPerSphere = 1000;
+inline constexpr std::int64_t kMaxEventsAtInstantFloor = 1'000'000;
+
 // `Core` may also supply stop_reason() (criteria of its own), for checkpoints loop() (an
 // EventLoopState) and save(): its whole state as bytes, taken between two events, and
 // put_back(event): files the event next_event() returned again, unhandled (a core that
@@ -57,6 +69,9 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
   RunGuard& guard = stop.guard != nullptr ? *stop.guard : own_guard;
   // After this many events without a collision, check whether one is possible at all.
   const std::int64_t quiet_limit = 16 * static_cast<std::int64_t>(s.n_spheres()) + 4096;
+  const std::int64_t instant_limit =
+      kMaxEventsAtInstantPerSphere * static_cast<std::int64_t>(s.n_spheres()) + kMaxEventsAtInstantFloor;
+  std::int64_t events_at_instant = 0;
 
   RunResult result;
   EngineCounters& count = core.counters();
@@ -108,6 +123,13 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
       result.reason = StopReason::time;
       s.time = stop.time;
       break;
+    }
+    if (next->time > s.time) {
+      events_at_instant = 0;
+    } else if (++events_at_instant > instant_limit && stop.wall_seconds == kNever) {
+      throw std::runtime_error(fmt::format("the simulated time stopped advancing at t = {}: {} events at that instant "
+                                           "(the intervals between events are below the resolution of the time)",
+                                           s.time, events_at_instant));
     }
     s.time = std::max(s.time, next->time);
     const EventRecord record = core.handle(*next);

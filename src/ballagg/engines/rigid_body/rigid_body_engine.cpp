@@ -602,7 +602,7 @@ class RigidBodyCore {
         if (towards <= 0.0) continue;
         const int i = k.members.front();
         const double t = now + std::max(wall_gap(i, x, w), 0.0) / towards;
-        batch_.push_back({t, i, w, k.stamp, 0, EventKind::wall});
+        if (t < kNever) batch_.push_back({t, i, w, k.stamp, 0, EventKind::wall});  // never at a subnormal speed
         continue;
       }
       // The bounding sphere reaches the wall plane first.
@@ -612,7 +612,7 @@ class RigidBodyCore {
         if (towards <= 0.0) continue;
         start = now + gap / towards;
       }
-      batch_.push_back({start, c, -1 - w, k.stamp, 0, EventKind::contact_search});
+      if (start < kNever) batch_.push_back({start, c, -1 - w, k.stamp, 0, EventKind::contact_search});
     }
   }
 
