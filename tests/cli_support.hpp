@@ -1,7 +1,7 @@
 #pragma once
 // Running the ballagg binary from a test: each argument quoted for the shell, its status,
 // stdout and stderr captured; a run that hangs is killed after a minute (status 124).
-// Used by test_cli, test_sweep, test_snapshots and test_render.
+// Used by test_cli, test_sweep, test_snapshots, test_render and test_bad_input.
 #include <fcntl.h>
 #include <spawn.h>
 #include <sys/wait.h>
@@ -42,6 +42,7 @@ inline std::string quoted(const std::string& s) {
 struct Outcome {
   int status = -1;
   std::string out, err;
+  double seconds = 0.0;  // wall time of the command (run_ballagg_in only)
 };
 
 // Runs `launcher ballagg args...` with its output captured in files of `scratch` (then
@@ -108,6 +109,28 @@ inline bool wait_until(const std::function<bool()>& ready, double seconds) {
     std::this_thread::sleep_for(std::chrono::microseconds(200));
   }
   return true;
+}
+
+// Runs `ballagg args...` with `cwd` as its working directory (relative arguments are
+// relative to it), its output captured in files of `scratch` (another directory, so that
+// `cwd` holds only what the command writes), killed after `limit_seconds` (status 124).
+inline Outcome run_ballagg_in(const std::filesystem::path& cwd, const std::vector<std::string>& args,
+                              const std::filesystem::path& scratch, int limit_seconds) {
+  const std::filesystem::path out = scratch / ".stdout", err = scratch / ".stderr";
+  std::string command = "cd " + quoted(cwd.string()) + " && exec timeout -k 2 " + std::to_string(limit_seconds) + " " +
+                        quoted(BALLAGG_BINARY);
+  for (const std::string& a : args) command.append(" ").append(quoted(a));
+  command.append(" >").append(quoted(out.string())).append(" 2>").append(quoted(err.string())).append(" </dev/null");
+  const auto start = std::chrono::steady_clock::now();
+  const int raw = std::system(command.c_str());
+  Outcome o;
+  o.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  o.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  o.out = slurp(out);
+  o.err = slurp(err);
+  std::filesystem::remove(out);
+  std::filesystem::remove(err);
+  return o;
 }
 
 }  // namespace ballagg::testing
