@@ -1,5 +1,6 @@
 // The TOML configuration layer: defaults, every key, --set overrides, box length formulas,
 // the resolved TOML round trip, and error messages that name the key and the file line.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -836,4 +837,29 @@ TEST(Config, AbsurdlyDeepDottedKeyIsAnErrorNotAStackOverflow) {
   EXPECT_CONTAINS(error_of("[system]\nn = 1\n[" + deep + "b]\n"), "run.toml:3:");
   // Numbers and ordinary keys are far from the limit.
   EXPECT_NO_THROW(ballagg::parse_config_text("[system]\nradius = 0.25\nvolume_fraction = 0.125\n", "ok.toml"));
+}
+
+// A --set value that is not UTF-8 would be written into config.toml and summary.json,
+// which every TOML and JSON reader then refuses: it is refused with the byte's place.
+TEST(Config, SetArgumentThatIsNotUtf8IsRefusedNamingTheByte) {
+  for (const std::string bad : {std::string("initial.file=st\xf6.csv"), std::string("initial.file=e\xf0\xff\xff\xffx"),
+                                std::string("initial.file=\xc0\xaf"),           // overlong '/'
+                                std::string("initial.file=\xed\xa0\x80"),       // a surrogate
+                                std::string("initial.file=\xf4\x90\x80\x80")}) {  // above U+10FFFF
+    try {
+      ballagg::load_config("", {"initial.positions=file", bad, "system.box_length=10"});
+      ADD_FAILURE() << "accepted " << bad;
+    } catch (const ballagg::InputError& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find("is not UTF-8 text"), std::string::npos) << message;
+      const auto first_non_ascii = std::find_if(bad.begin(), bad.end(), [](char c) { return (c & 0x80) != 0; });
+      const std::string place = "byte " + std::to_string(first_non_ascii - bad.begin() + 1) + " ";
+      EXPECT_NE(message.find(place), std::string::npos) << message;
+    }
+  }
+  // Well-formed multi-byte text is a value like any other.
+  const ballagg::Config c =
+      ballagg::load_config("", {"initial.positions=file", "initial.file=st\xc3\xb6_\xe2\x82\xac_\xf0\x9f\x98\x80.csv",
+                                "system.box_length=10"});
+  EXPECT_EQ(c.initial.file, "st\xc3\xb6_\xe2\x82\xac_\xf0\x9f\x98\x80.csv");
 }

@@ -204,9 +204,44 @@ std::string printable_argument(const std::string& arg) {
   return out;
 }
 
+// The offset of the first byte of `text` that does not belong to a well-formed UTF-8
+// sequence (RFC 3629: no overlong forms, no surrogates, at most U+10FFFF), or npos.
+std::size_t first_invalid_utf8(std::string_view text) {
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto b = static_cast<unsigned char>(text[i]);
+    const std::size_t length = b < 0x80 ? 1 : (b >> 5) == 0x6 ? 2 : (b >> 4) == 0xe ? 3 : (b >> 3) == 0x1e ? 4 : 0;
+    if (length == 0 || i + length > text.size()) return i;
+    std::uint32_t code = length == 1 ? b : b & (0x7f >> length);
+    for (std::size_t k = 1; k < length; ++k) {
+      const auto c = static_cast<unsigned char>(text[i + k]);
+      if ((c >> 6) != 0x2) return i;
+      code = (code << 6) | (c & 0x3f);
+    }
+    constexpr std::uint32_t kSmallest[] = {0, 0, 0x80, 0x800, 0x10000};
+    if (code < kSmallest[length] || code > 0x10ffff || (code >= 0xd800 && code <= 0xdfff)) return i;
+    i += length;
+  }
+  return std::string_view::npos;
+}
+
+// The same with every byte outside ASCII escaped too: for an argument that is not UTF-8,
+// whose error line must itself be text.
+std::string printable_ascii(const std::string& arg) {
+  std::string out;
+  for (const char c : printable_argument(arg)) {
+    const auto u = static_cast<unsigned char>(c);
+    if (u >= 0x80) out += fmt::format("\\x{:02x}", u);
+    else out += c;
+  }
+  return out;
+}
+
 // A control character (a newline, a tab, NUL...) in a --set would be read as the end of
-// the TOML value, the rest of the argument silently dropped or taken as another key.
-void refuse_control_characters(const std::string& arg) {
+// the TOML value, the rest of the argument silently dropped or taken as another key; bytes
+// that are not UTF-8 would be accepted here and written into config.toml and summary.json,
+// which every TOML and JSON reader (ours included) then refuses.
+void refuse_unprintable(const std::string& arg) {
   const auto bad = std::find_if(arg.begin(), arg.end(), [](char c) {
     const auto u = static_cast<unsigned char>(c);
     return u < 0x20 || u == 0x7f;
@@ -215,10 +250,13 @@ void refuse_control_characters(const std::string& arg) {
     throw InputError(fmt::format("--set \"{}\": control character {} in the argument (one section.key=value per --set, "
                                  "printable characters only)", printable_argument(arg),
                                  printable_argument(std::string(1, *bad))));
+  if (const std::size_t at = first_invalid_utf8(arg); at != std::string_view::npos)
+    throw InputError(fmt::format("--set {}: byte {} (0x{:02x}) is not UTF-8 text (arguments must be UTF-8)",
+                                 printable_ascii(arg), at + 1, static_cast<unsigned char>(arg[at])));
 }
 
 void apply_override(toml::table& root, const std::string& arg, std::set<std::string>& overridden) {
-  refuse_control_characters(arg);
+  refuse_unprintable(arg);
   const auto eq = arg.find('=');
   const std::string path = arg.substr(0, eq);
   const auto dot = path.find('.');
