@@ -33,7 +33,7 @@ int run_sweep_command(SweepCommand& s) {
     if (world.rank() == 0) {
       const long long done = outcome.ran + outcome.skipped;
       fmt::print(stderr,
-                 "ballagg: sweep interrupted by {}: {} of {} runs done ({} in this session), {} failed; tables of the "
+                 "ballagg: sweep interrupted by {}: {} of {} runs done ({} by this command), {} failed; tables of the "
                  "runs done in {}; continue with: ballagg sweep {} --out {} --resume\n",
                  signal_name(outcome.signal), done, outcome.total, outcome.ran, outcome.failed, tables, s.file,
                  s.options.out_dir);

@@ -34,7 +34,7 @@ CHECKED_SUFFIXES = (".md", ".hpp", ".cpp", ".h", ".py", ".txt", ".toml", ".sh")
 
 # What is history, each with what the message calls it.
 HISTORY_PATTERNS = [
-    (r"\bsession(?:s|'s)?(?:\s+\d+(?:\s*-\s*\d+)?)?\b", "a work session"),
+    (r"(?<!ssh )(?<!login )(?<!terminal )\bsession(?:s|'s)?(?:\s+\d+(?:\s*-\s*\d+)?)?\b", "a work session"),
     (r"\bissues?\s+#?\d+", "an issue number"),
     (r"(?<![\w&#/])#\d+\b", "an issue number (#N)"),
     (r"\bdid not pay\b", "what did not pay"),
@@ -73,6 +73,7 @@ SAMPLES = [
     ("the contact is issued before the event", False),
     ("an exception noted here <!-- present-tense: allowed --> session 4", False),
     ("the fall-back does not pay for itself at N = 100", False),
+    ("SIGHUP (a closed terminal or ssh session)", False),
 ]
 
 
