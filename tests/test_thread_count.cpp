@@ -7,11 +7,13 @@
 #include <algorithm>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "ballagg/analysis/pair_scan.hpp"
 #include "ballagg/core/parallel.hpp"
+#include "ballagg/initial/initial_state.hpp"
 #include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/verify_run.hpp"
 #include "support.hpp"
@@ -129,6 +131,35 @@ TEST_P(ThreadCountTimeStepping, RunFilesDoNotDependOnIt) {
   c.ts.dt_factor = 0.05;
   c.stop.time = 0.5;
   expect_run_files_independent_of_threads(c);
+}
+
+// The team may change between any two parallel regions: the time-stepping engine gives up
+// threads while a core is taken (core/adaptive_team.hpp). A run whose thread count changes
+// after every step ends where the run on one thread does, bit for bit.
+TEST(ThreadCount, TimeSteppingRunWhoseTeamChangesEveryStepDoesNotDependOnIt) {
+  Config c = run_config(EngineKind::ts, 2, 10000, Boundary::periodic, 1, 0.3);
+  c.ts.dt_factor = 0.005;
+  c.stop.time = 4.0;
+  auto final_state = [&](bool alternate) {
+    const testing::ThreadCount count(alternate ? 2 : 1);
+    State<2> s = make_initial_state<2>(c);
+    const Config resolved = resolve_defaults<2>(c, s);
+    testing::Recorder<2> changes;
+    changes.check = [&](const State<2>&, const EventRecord&) {
+      if (alternate) omp_set_num_threads(changes.events.size() % 2 == 0 ? 2 : 1);
+    };
+    make_engine<2>(resolved)->run(s, stop_criteria(resolved), changes);
+    EXPECT_GE(changes.events.size(), 4u);
+    std::vector<double> xs;
+    for (int i = 0; i < s.n_spheres(); ++i) {
+      const Vec<2> x = s.position(i, s.time);
+      xs.insert(xs.end(), {x[0], x[1], static_cast<double>(s.spheres.cluster[i])});
+    }
+    return xs;
+  };
+  const std::vector<double> one = final_state(false), changing = final_state(true);
+  ASSERT_EQ(one.size(), changing.size());
+  EXPECT_TRUE(one == changing);
 }
 
 TEST(ThreadCount, AnalysisAndVerificationDoNotDependOnIt) {

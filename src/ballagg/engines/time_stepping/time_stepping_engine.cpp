@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 
+#include "ballagg/core/adaptive_team.hpp"
 #include "ballagg/core/parallel.hpp"
 #include "ballagg/core/prefetch.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
@@ -133,6 +134,9 @@ class TimeSteppingEngine final : public Engine<D> {
   typename NearPairCells<D>::Binned cells_for_queries(const State<D>& s, std::size_t queries);
   void detect_overlaps(const State<D>& s);
   void resolve(const State<D>& s);
+  void poll_team() {
+    if (team_) team_->poll();
+  }
   GroupSolution<D> repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
   bool beyond_minimisation(const State<D>& s, const CollisionGroup& group) const;
   std::uint64_t round_signature() const;
@@ -223,6 +227,7 @@ class TimeSteppingEngine final : public Engine<D> {
   double length_scale_ = 1.0, delta_w_ = 0.0, mean_mass_ = 1.0;
   std::optional<TimeStepRule> rule_;         // from the state at the start of the run
   bool resumed_ = false;                     // resume_from prepared the next run()
+  AdaptiveTeam* team_ = nullptr;             // during run(): the team of its parallel regions
 };
 
 template <int D>
@@ -238,8 +243,16 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
   const TimeStepRule& rule = *rule_;
 
   RunResult result;
+  // The team of the parallel regions, measured between steps and between the stages of a
+  // step (the first steps of 10^6 spheres last minutes, docs/performance.md).
+  AdaptiveTeam team;
+  struct InUse {
+    AdaptiveTeam*& slot;
+    ~InUse() { slot = nullptr; }
+  } in_use{team_ = &team};
   observer.on_start(s);
   while (true) {
+    team.poll();
     if (observer.checkpoint_due()) observer.on_checkpoint(s, counters_, save());
     if (s.n_clusters() <= stop.clusters) { result.reason = StopReason::clusters; break; }
     if (elapsed() >= stop.wall_seconds) { result.reason = StopReason::wall_seconds; break; }
@@ -273,6 +286,7 @@ void TimeSteppingEngine<D>::step(State<D>& s, double t, RunObserver<D>& observer
   advect(s, t - s.time);
   defer_positions(s);
   detect_overlaps(s);
+  poll_team();
   resolve(s);
   EventRecord record;
   record.merges = commit(s);
@@ -502,6 +516,7 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
   for (int round = 1;; ++round) {
     const std::vector<CollisionGroup> groups = S_.take_changed_groups();
     if (groups.empty()) break;
+    poll_team();
     if (round > 1) ++counters_.link_rounds;
     // A round with the adhesive set of an earlier round of this step would go on repeating
     // the rounds since (a cycle: at N = 10^6 a few groups took turns, solved, retreated and
@@ -535,6 +550,7 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
     for (std::size_t k = 0; k < groups.size(); ++k)
       if (!solutions[k].result.converged) failed.push_back(k);
     for (const std::vector<std::size_t>& wave : repair_waves(ctx, groups, failed)) {
+      poll_team();
       const std::int64_t n_wave = static_cast<std::int64_t>(wave.size());
 #pragma omp parallel for schedule(dynamic) if (n_wave >= kParallelRepairs)
       for (std::int64_t w = 0; w < n_wave; ++w) {
