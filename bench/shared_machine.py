@@ -14,12 +14,15 @@ table, and whether the targets hold:
   alone, default within TOLERANCE of fixed (the two-thread speed is kept).
 --python times the same run through the Python module (sim.run(), timed inside the
 interpreter) instead of the command line (the whole process, as a user waits for it).
---binary times another build (e.g. an older commit) the same way.
+--binary times another build (e.g. an older commit) the same way. --late SECONDS starts
+the busy process(es) that long after each run instead of before it: the team is then
+chosen from its threads' waits, not from the glance at the start (use a run of a few
+seconds, --n 100000).
 
 The machine should otherwise be idle: check `uptime` first. Only the standard library is used.
 
 Usage: bench/shared_machine.py [--repeats 7] [--competitors 1] [--pin] [--python]
-                               [--binary build/bin/ballagg] [--n 10000]
+                               [--binary build/bin/ballagg] [--n 10000] [--late SECONDS]
 """
 import argparse
 import os
@@ -84,29 +87,40 @@ def environment(threads):
     return env
 
 
-def time_run(args, threads, scratch):
-    """Seconds of one run with OMP_NUM_THREADS=threads (None: no OMP_* variable)."""
+def time_run(args, threads, scratch, late_competitors=0):
+    """Seconds of one run with OMP_NUM_THREADS=threads (None: no OMP_* variable), with
+    late_competitors busy processes started args.late seconds after it."""
     env = environment(threads)
     if args.python:
-        out = subprocess.run([sys.executable, "-c", PYTHON_RUN, str(args.n)], env=env, check=True,
-                             capture_output=True, text=True).stdout
-        return float(out.split()[-1])
-    out_dir = os.path.join(scratch, "run")
-    shutil.rmtree(out_dir, ignore_errors=True)
-    cmd = [args.binary, "run", "-q", "--set", "engine.kind=ts", "--set", f"system.n={args.n}",
-           "--set", "system.volume_fraction=0.3", "--set", "ts.dt_factor=0.005", "--out", out_dir]
+        cmd = [sys.executable, "-c", PYTHON_RUN, str(args.n)]
+    else:
+        out_dir = os.path.join(scratch, "run")
+        shutil.rmtree(out_dir, ignore_errors=True)
+        cmd = [args.binary, "run", "-q", "--set", "engine.kind=ts", "--set", f"system.n={args.n}",
+               "--set", "system.volume_fraction=0.3", "--set", "ts.dt_factor=0.005", "--out", out_dir]
     start = time.perf_counter()
-    subprocess.run(cmd, env=env, check=True, stdout=subprocess.DEVNULL)
-    return time.perf_counter() - start
+    run = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, text=True)
+    procs = []
+    if late_competitors:
+        try:
+            run.wait(timeout=args.late)
+        except subprocess.TimeoutExpired:
+            procs = start_competitors(late_competitors, args.pin, settle=0.0)
+    out = run.communicate()[0]
+    seconds = time.perf_counter() - start
+    stop(procs)
+    if run.returncode != 0:
+        raise SystemExit(f"run failed ({run.returncode}): {' '.join(cmd)}")
+    return float(out.split()[-1]) if args.python else seconds
 
 
-def start_competitors(count, pin):
+def start_competitors(count, pin, settle=0.5):
     procs = []
     for k in range(count):
         cpu = sorted(os.sched_getaffinity(0))[k % len(os.sched_getaffinity(0))]
         preexec = (lambda c=cpu: os.sched_setaffinity(0, {c})) if pin else None
         procs.append(subprocess.Popen([sys.executable, "-c", "while True: pass"], preexec_fn=preexec))
-    time.sleep(0.5)  # running, and seen by the scheduler as busy
+    time.sleep(settle)  # running, and seen by the scheduler as busy
     return procs
 
 
@@ -118,7 +132,8 @@ def stop(procs):
 
 
 def conditions(args):
-    return ("alone", f"+{args.competitors} busy")
+    late = "" if args.late is None else f" after {args.late:g} s"
+    return ("alone", f"+{args.competitors} busy{late}")
 
 
 def measure(args, scratch):
@@ -128,10 +143,12 @@ def measure(args, scratch):
     times = {(cond, mode): [] for cond in conds for mode in modes}
     for round_ in range(args.repeats):
         for cond in conds:
-            procs = start_competitors(args.competitors, args.pin) if cond != conds[0] else []
+            busy = cond != conds[0]
+            procs = start_competitors(args.competitors, args.pin) if busy and args.late is None else []
+            late = args.competitors if busy and args.late is not None else 0
             try:
                 for mode, threads in modes.items():
-                    times[(cond, mode)].append(time_run(args, threads, scratch))
+                    times[(cond, mode)].append(time_run(args, threads, scratch, late))
             finally:
                 stop(procs)
         print(f"round {round_ + 1}/{args.repeats} done, load {load()}", file=sys.stderr, flush=True)
@@ -146,6 +163,8 @@ def main():
     p.add_argument("--python", action="store_true", help="run through the Python module")
     p.add_argument("--binary", default=BINARY)
     p.add_argument("--n", type=int, default=10000)
+    p.add_argument("--late", type=float, default=None, metavar="SECONDS",
+                   help="start the busy process(es) this long after each run")
     args = p.parse_args()
 
     print(f"machine: {machine()}")
@@ -167,8 +186,9 @@ def main():
         print(f"| {cond} | " + " | ".join(f"{t:.3f}" for t in row)
               + f" | {row[0] / row[1]:.2f} | {row[0] / row[2]:.2f} |")
     print()
-    for key, values in every.items():
-        print(f"  {key[0]:8} {key[1]:9}: " + " ".join(f"{t:.3f}" for t in values))
+    width = max(len(f"{c} {m}") for c, m in every)
+    for (cond, mode), values in every.items():
+        print(f"  {f'{cond} {mode}':{width}}: " + " ".join(f"{t:.3f}" for t in values))
     shared = median[(conds[1], names[0])] / median[(conds[1], names[1])]
     alone = median[(conds[0], names[0])] / median[(conds[0], names[2])]
     print(f"\n{conds[1]}: default = {shared:.2f} x one thread "
