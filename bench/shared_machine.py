@@ -13,7 +13,9 @@ table, and whether the targets hold:
   beside the busy process(es), default <= 1.5 x 1 thread;
   alone, default within TOLERANCE of fixed (the two-thread speed is kept).
 --python times the same run through the Python module (sim.run(), timed inside the
-interpreter) instead of the command line (the whole process, as a user waits for it).
+interpreter) instead of the command line (the whole process, as a user waits for it);
+--chunk TIME makes it a loop of short calls, sim.run(time=t) for t = TIME, 2 TIME, ... (0.5:
+about 300 calls of 1 ms at N = 10^4).
 --binary times another build (e.g. an older commit) the same way. --late SECONDS starts
 the busy process(es) that long after each run instead of before it: the team is then
 chosen from its threads' waits, not from the glance at the start (use a run of a few
@@ -21,7 +23,7 @@ seconds, --n 100000).
 
 The machine should otherwise be idle: check `uptime` first. Only the standard library is used.
 
-Usage: bench/shared_machine.py [--repeats 7] [--competitors 1] [--pin] [--python]
+Usage: bench/shared_machine.py [--repeats 7] [--competitors 1] [--pin] [--python [--chunk TIME]]
                                [--binary build/bin/ballagg] [--n 10000] [--late SECONDS]
 """
 import argparse
@@ -45,8 +47,15 @@ import sys, time, ballagg
 config = ballagg.Config({"engine": {"kind": "ts"}, "ts": {"dt_factor": 0.005},
                          "system": {"n": int(sys.argv[1]), "volume_fraction": 0.3}})
 sim = ballagg.Simulation(config)
+chunk = float(sys.argv[2])
 start = time.perf_counter()
-sim.run()
+if chunk > 0:
+    t = 0.0
+    while sim.n_clusters > 1:
+        t += chunk
+        sim.run(time=t)
+else:
+    sim.run()
 print(time.perf_counter() - start)
 """
 
@@ -92,7 +101,7 @@ def time_run(args, threads, scratch, late_competitors=0):
     late_competitors busy processes started args.late seconds after it."""
     env = environment(threads)
     if args.python:
-        cmd = [sys.executable, "-c", PYTHON_RUN, str(args.n)]
+        cmd = [sys.executable, "-c", PYTHON_RUN, str(args.n), str(args.chunk)]
     else:
         out_dir = os.path.join(scratch, "run")
         shutil.rmtree(out_dir, ignore_errors=True)
@@ -161,6 +170,8 @@ def main():
     p.add_argument("--competitors", type=int, default=1, help="busy processes beside the run")
     p.add_argument("--pin", action="store_true", help="pin each busy process to one CPU")
     p.add_argument("--python", action="store_true", help="run through the Python module")
+    p.add_argument("--chunk", type=float, default=0.0, metavar="TIME",
+                   help="with --python: sim.run(time=t) in steps of TIME (simulated) until one cluster")
     p.add_argument("--binary", default=BINARY)
     p.add_argument("--n", type=int, default=10000)
     p.add_argument("--late", type=float, default=None, metavar="SECONDS",
@@ -169,7 +180,8 @@ def main():
 
     print(f"machine: {machine()}")
     print(f"commit: {commit()}" + ("" if args.binary == BINARY else f", binary {args.binary}"))
-    via = "the Python module (sim.run())" if args.python else "the command line (whole process)"
+    calls = f"sim.run(time=t), t in steps of {args.chunk:g}" if args.chunk > 0 else "sim.run()"
+    via = f"the Python module ({calls})" if args.python else "the command line (whole process)"
     competitor = f"{args.competitors} x `python3 -c 'while True: pass'`" + (" pinned" if args.pin else "")
     print(f"run: ts, 2D, N = {args.n}, Vf 0.3, dt_factor 0.005, through {via}; "
           f"busy: {competitor}; median of {args.repeats}")

@@ -48,7 +48,6 @@ class AdaptiveTeam {
 
  private:
   void sample();
-  double elapsed_in_segment() const;
 
   bool active_ = false;
   int caller_threads_ = 1;

@@ -235,6 +235,13 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
   using clock = std::chrono::steady_clock;
   const auto started = clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(clock::now() - started).count(); };
+  // The team of the parallel regions, measured between steps and between the stages of a
+  // step (the first steps of 10^6 spheres last minutes, docs/performance.md).
+  AdaptiveTeam team;
+  struct InUse {
+    AdaptiveTeam*& slot;
+    ~InUse() { slot = nullptr; }
+  } in_use{team_ = &team};
   if (!resumed_) {
     prepare(s);
     rule_.emplace(settings_, s);
@@ -243,13 +250,6 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
   const TimeStepRule& rule = *rule_;
 
   RunResult result;
-  // The team of the parallel regions, measured between steps and between the stages of a
-  // step (the first steps of 10^6 spheres last minutes, docs/performance.md).
-  AdaptiveTeam team;
-  struct InUse {
-    AdaptiveTeam*& slot;
-    ~InUse() { slot = nullptr; }
-  } in_use{team_ = &team};
   observer.on_start(s);
   while (true) {
     team.poll();
@@ -669,6 +669,7 @@ void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const Gro
   bool beyond_skin = false;
   const std::int64_t n_pieces = static_cast<std::int64_t>(apply_pieces_.size());
   const int chunk = static_cast<int>(std::clamp<std::int64_t>(n_pieces / 64, 1, 64));
+  fit_to_team(beyond_found_);
 #pragma omp parallel for schedule(dynamic, chunk) reduction(|| : beyond_skin) \
     if (n_pieces > 1 && n_moved >= kParallelApply)
   for (std::int64_t k = 0; k < n_pieces; ++k) {
@@ -919,6 +920,7 @@ void TimeSteppingEngine<D>::contact_pass(const State<D>& s, const std::vector<in
   forget_outdated_sightings();
   const std::int32_t pass = pass_++;
   const double largest_so_far = counters_.max_residual_overlap;
+  fit_to_team(sightings_);
   for_each_contact(s, moved, [&](int i, int j, double d, double sigma) {
     const double overlap = 1.0 - d / sigma;
     if (overlap > largest_so_far) sightings_[thread_index()].push_back({i, j, pass, overlap});
