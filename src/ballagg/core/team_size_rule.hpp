@@ -3,11 +3,11 @@
 // this process waited for a CPU. A parallel region ends when its last thread does, and the
 // engines open many short regions per step: when another process holds a core, a team as
 // large as the cores runs each region at the pace of a thread that waits a scheduler time
-// slice for its turn (a time-stepping run of 10^4 discs on two cores took 1.6 s on two
-// threads beside one busy process, 0.24 s on one thread). The rule gives the team up one
-// thread at a time while its threads wait for CPUs, and tries the full team again after a
-// while, waiting longer after each try that fails, so that a run takes back the cores as
-// soon as they are free at a bounded cost while they are not. Thread counts never change
+// slice for its turn (a time-stepping run of 10^4 discs on two cores took 0.50 s on two
+// threads beside one busy process, 0.24 s on one thread: docs/performance.md). The rule
+// gives threads up while its threads wait for CPUs, one per core's worth waited, and tries
+// the full team again after a while, waiting longer after each try that fails, so that a
+// run takes back the cores soon after they are free, at a bounded cost while they are not. Thread counts never change
 // results (docs/time_stepping.md#threads), so the team may change between any two regions.
 #include <algorithm>
 #include <cmath>
@@ -38,6 +38,7 @@ class TeamSizeRule {
   explicit TeamSizeRule(int max_team) : max_team_(std::max(1, max_team)), team_(max_team_) {}
 
   int team() const { return team_; }
+  int max_team() const { return max_team_; }
 
   // Starts with `team` threads at time `now` (starting_team); when fewer than the full
   // team, the full team is tried as after a shrink.
@@ -45,7 +46,6 @@ class TeamSizeRule {
     team_ = std::clamp(team, 1, max_team_);
     if (team_ < max_team_) retry_at_ = now + retry_wait_;
   }
-  int max_team() const { return max_team_; }
 
   // A sample: over `wall` seconds ending at `now` (seconds, any origin), the threads of the
   // team, `team()` of them, waited `waiting` seconds in all for a CPU. Returns the team
