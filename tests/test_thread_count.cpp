@@ -7,11 +7,13 @@
 #include <algorithm>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include <gtest/gtest.h>
 
 #include "ballagg/analysis/pair_scan.hpp"
 #include "ballagg/core/parallel.hpp"
+#include "ballagg/initial/initial_state.hpp"
 #include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/verify_run.hpp"
 #include "support.hpp"
@@ -129,6 +131,44 @@ TEST_P(ThreadCountTimeStepping, RunFilesDoNotDependOnIt) {
   c.ts.dt_factor = 0.05;
   c.stop.time = 0.5;
   expect_run_files_independent_of_threads(c);
+}
+
+// The team may change between any two parallel regions: the time-stepping engine gives up
+// threads while a core is taken and takes them back (core/adaptive_team.hpp). A run
+// prepared on one thread whose steps then take two threads and one by turns ends where the
+// run on one thread does, bit for bit (and its lists per thread, made for the one thread
+// of the start, grow with the team).
+TEST(ThreadCount, TimeSteppingRunWhoseTeamChangesEveryStepDoesNotDependOnIt) {
+  Config c = run_config(EngineKind::ts, 2, 10000, Boundary::periodic, 1, 0.3);
+  c.ts.dt_factor = 0.02;
+  c.stop.time = 8.0;
+  // At the start of every step: two threads, then one, and so on.
+  struct Alternating final : RunObserver<2> {
+    bool alternate = false;
+    int steps = 0;
+    void before_event(const State<2>&, double) override {
+      if (alternate) omp_set_num_threads(steps % 2 == 0 ? 2 : 1);
+      ++steps;
+    }
+  };
+  auto final_state = [&](bool alternate) {
+    const testing::ThreadCount count(1);
+    State<2> s = make_initial_state<2>(c);
+    const Config resolved = resolve_defaults<2>(c, s);
+    Alternating changes;
+    changes.alternate = alternate;
+    make_engine<2>(resolved)->run(s, stop_criteria(resolved), changes);
+    EXPECT_GE(changes.steps, 3);
+    std::vector<double> xs;
+    for (int i = 0; i < s.n_spheres(); ++i) {
+      const Vec<2> x = s.position(i, s.time);
+      xs.insert(xs.end(), {x[0], x[1], static_cast<double>(s.spheres.cluster[i])});
+    }
+    return xs;
+  };
+  const std::vector<double> one = final_state(false), changing = final_state(true);
+  ASSERT_EQ(one.size(), changing.size());
+  EXPECT_TRUE(one == changing);
 }
 
 TEST(ThreadCount, AnalysisAndVerificationDoNotDependOnIt) {

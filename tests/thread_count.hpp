@@ -11,14 +11,15 @@
 #include <nlohmann/json.hpp>
 
 #include "ballagg/config/config.hpp"
+#include "ballagg/core/adaptive_team.hpp"
 #include "ballagg/run/simulation.hpp"
 #include "cli_support.hpp"
 #include "support.hpp"
 
 namespace ballagg::testing {
 
-// The OpenMP thread count of the calling thread for the object's lifetime; the previous
-// count is restored when it goes.
+// The OpenMP thread count of the calling thread for the object's lifetime, kept by the
+// runs whatever the load (core/adaptive_team.hpp); the previous count is restored when it goes.
 class ThreadCount {
  public:
   explicit ThreadCount(int threads) : previous_(omp_get_max_threads()) { omp_set_num_threads(threads); }
@@ -27,6 +28,7 @@ class ThreadCount {
   ThreadCount& operator=(const ThreadCount&) = delete;
 
  private:
+  PinnedTeamSize pinned_;
   int previous_;
 };
 

@@ -4,7 +4,9 @@
 #include <omp.h>
 #endif
 
+#include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace ballagg {
 
@@ -37,6 +39,15 @@ inline int thread_index() {
 #else
   return 0;
 #endif
+}
+
+// Storage kept per thread from one region to the next, indexed by thread_index(): made to
+// hold an entry for every thread of the next team before it starts. The team may grow
+// between two regions of a run (core/adaptive_team.hpp).
+template <class PerThread>
+void fit_to_team(std::vector<PerThread>& per_thread) {
+  const std::size_t threads = static_cast<std::size_t>(max_threads());
+  if (per_thread.size() < threads) per_thread.resize(threads);
 }
 
 }  // namespace ballagg

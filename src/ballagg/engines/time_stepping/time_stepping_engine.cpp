@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 
+#include "ballagg/core/adaptive_team.hpp"
 #include "ballagg/core/parallel.hpp"
 #include "ballagg/core/prefetch.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
@@ -133,6 +134,9 @@ class TimeSteppingEngine final : public Engine<D> {
   typename NearPairCells<D>::Binned cells_for_queries(const State<D>& s, std::size_t queries);
   void detect_overlaps(const State<D>& s);
   void resolve(const State<D>& s);
+  void poll_team() {
+    if (team_) team_->poll();
+  }
   GroupSolution<D> repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
   bool beyond_minimisation(const State<D>& s, const CollisionGroup& group) const;
   std::uint64_t round_signature() const;
@@ -224,6 +228,7 @@ class TimeSteppingEngine final : public Engine<D> {
   std::optional<TimeStepRule> rule_;         // from the state at the start of the run
   RunGuard* guard_ = nullptr;                // the guard of the run under way
   bool resumed_ = false;                     // resume_from prepared the next run()
+  AdaptiveTeam* team_ = nullptr;             // during run(): the team of its parallel regions
 };
 
 template <int D>
@@ -231,6 +236,13 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
   RunGuard own_guard(stop.wall_seconds);
   RunGuard& guard = stop.guard != nullptr ? *stop.guard : own_guard;
   guard_ = &guard;
+  // The team of the parallel regions, measured between steps and between the stages of a
+  // step (the first steps of 10^6 spheres last minutes, docs/performance.md).
+  AdaptiveTeam team;
+  struct InUse {
+    AdaptiveTeam*& slot;
+    ~InUse() { slot = nullptr; }
+  } in_use{team_ = &team};
   if (!resumed_) {
     prepare(s);
     rule_.emplace(settings_, s);
@@ -241,6 +253,7 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
   RunResult result;
   observer.on_start(s);
   while (true) {
+    team.poll();
     // A signal: the checkpointing observer writes one and ends the run by throwing.
     guard.check();
     if (guard.cause() != StopCause::wall_seconds && observer.checkpoint_due())
@@ -288,6 +301,7 @@ void TimeSteppingEngine<D>::step(State<D>& s, double t, RunObserver<D>& observer
   advect(s, t - s.time);
   defer_positions(s);
   detect_overlaps(s);
+  poll_team();
   resolve(s);
   EventRecord record;
   record.merges = commit(s);
@@ -517,6 +531,7 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
   for (int round = 1;; ++round) {
     const std::vector<CollisionGroup> groups = S_.take_changed_groups();
     if (groups.empty()) break;
+    poll_team();
     if (round > 1) ++counters_.link_rounds;
     // A round with the adhesive set of an earlier round of this step would go on repeating
     // the rounds since (a cycle: at N = 10^6 a few groups took turns, solved, retreated and
@@ -553,6 +568,7 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
     for (std::size_t k = 0; k < groups.size(); ++k)
       if (!solutions[k].result.converged) failed.push_back(k);
     for (const std::vector<std::size_t>& wave : repair_waves(ctx, groups, failed)) {
+      poll_team();
       const std::int64_t n_wave = static_cast<std::int64_t>(wave.size());
 #pragma omp parallel for schedule(dynamic) if (n_wave >= kParallelRepairs)
       for (std::int64_t w = 0; w < n_wave; ++w) {
@@ -671,6 +687,7 @@ void TimeSteppingEngine<D>::apply(const State<D>& s, const std::vector<const Gro
   bool beyond_skin = false;
   const std::int64_t n_pieces = static_cast<std::int64_t>(apply_pieces_.size());
   const int chunk = static_cast<int>(std::clamp<std::int64_t>(n_pieces / 64, 1, 64));
+  fit_to_team(beyond_found_);
 #pragma omp parallel for schedule(dynamic, chunk) reduction(|| : beyond_skin) \
     if (n_pieces > 1 && n_moved >= kParallelApply)
   for (std::int64_t k = 0; k < n_pieces; ++k) {
@@ -921,6 +938,7 @@ void TimeSteppingEngine<D>::contact_pass(const State<D>& s, const std::vector<in
   forget_outdated_sightings();
   const std::int32_t pass = pass_++;
   const double largest_so_far = counters_.max_residual_overlap;
+  fit_to_team(sightings_);
   for_each_contact(s, moved, [&](int i, int j, double d, double sigma) {
     const double overlap = 1.0 - d / sigma;
     if (overlap > largest_so_far) sightings_[thread_index()].push_back({i, j, pass, overlap});
