@@ -10,10 +10,10 @@
 
 #include <gtest/gtest.h>
 
-#include "ballagg/analysis/pair_scan.hpp"
 #include "ballagg/core/parallel.hpp"
 #include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/verify_run.hpp"
+#include "ballagg/spatial/pair_scan.hpp"
 #include "support.hpp"
 #include "thread_count.hpp"
 

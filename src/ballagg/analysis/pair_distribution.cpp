@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "ballagg/analysis/pair_scan.hpp"
+#include "ballagg/spatial/pair_scan.hpp"
 
 namespace ballagg {
 

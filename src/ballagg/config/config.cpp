@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
+#include "ballagg/config/text_file.hpp"
 #include "ballagg/config/value_ranges.hpp"
-#include "ballagg/io/text_file.hpp"
 
 namespace ballagg {
 namespace {

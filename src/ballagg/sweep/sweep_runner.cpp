@@ -13,10 +13,10 @@
 #include <omp.h>
 #endif
 
+#include "ballagg/config/text_file.hpp"
 #include "ballagg/core/run_guard.hpp"
 #include "ballagg/io/directory_lock.hpp"
 #include "ballagg/io/output_dir.hpp"
-#include "ballagg/io/text_file.hpp"
 #include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/checkpointer.hpp"
 #include "ballagg/run/simulation.hpp"
