@@ -114,10 +114,10 @@ class ThreadCountTimeStepping : public ::testing::TestWithParam<std::tuple<TsMod
 INSTANTIATE_TEST_SUITE_P(EveryModel, ThreadCountTimeStepping,
                          ::testing::Combine(::testing::Values(TsModel::rigid, TsModel::almost_rigid, TsModel::non_rigid),
                                             ::testing::Values(2, 3)),
-                         [](const auto& info) {
-                           std::string name(to_string(std::get<0>(info.param)));
+                         [](const auto& param_info) {
+                           std::string name(to_string(std::get<0>(param_info.param)));
                            std::replace(name.begin(), name.end(), '-', '_');
-                           return name + "_" + std::to_string(std::get<1>(info.param)) + "D";
+                           return name + "_" + std::to_string(std::get<1>(param_info.param)) + "D";
                          });
 
 TEST_P(ThreadCountTimeStepping, RunFilesDoNotDependOnIt) {
