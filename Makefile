@@ -1,7 +1,12 @@
 # The README's two commands: `make demo` and `make test`. Everything else is a helper.
+#   make demo    builds the command line alone (no tests, no benchmarks) and runs it once
+#   make test    builds the libraries, the command line, the Python module and the tests; runs them
+#   make bench   builds the benchmark tools too and runs bench/ed_scaling.py
+# WERROR=ON makes the project's warnings errors (CI: .ci/run).
 BUILD_DIR ?= build
 JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
+WERROR ?= OFF
 
 .PHONY: all setup configure build python test demo bench clean sanitize fuzz sanitize-configure
 
@@ -11,8 +16,9 @@ setup:
 	@bash scripts/setup
 
 configure: setup
-	@cmake -S . -B $(BUILD_DIR) $(CMAKE_FLAGS) > /dev/null
+	@cmake -S . -B $(BUILD_DIR) $(CMAKE_FLAGS) -DBALLAGG_WERROR=$(WERROR) > /dev/null
 
+# Everything but the benchmark tools.
 build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
@@ -23,10 +29,12 @@ python: configure
 test: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
 
-demo: build
+demo: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target ballagg
 	$(BUILD_DIR)/bin/ballagg run --out out/demo
 
-bench: build
+bench: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS) --target ballagg_bench
 	/usr/bin/python3 bench/ed_scaling.py
 
 # AddressSanitizer + UndefinedBehaviorSanitizer (clang), in build-sanitize: the test suite
@@ -40,7 +48,7 @@ SANITIZE_LSAN = suppressions=$(CURDIR)/tests/sanitize/lsan.supp:print_suppressio
 
 sanitize-configure: setup
 	@cmake -S . -B $(SANITIZE_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_C_COMPILER=clang \
-	  -DCMAKE_CXX_COMPILER=clang++ -DBALLAGG_BENCH=OFF -DBALLAGG_FUZZ=ON \
+	  -DCMAKE_CXX_COMPILER=clang++ -DBALLAGG_BENCH=OFF -DBALLAGG_FUZZ=ON -DBALLAGG_WERROR=$(WERROR) \
 	  "-DCMAKE_C_FLAGS=$(SANITIZE_FLAGS)" "-DCMAKE_CXX_FLAGS=$(SANITIZE_FLAGS)" \
 	  "-DCMAKE_EXE_LINKER_FLAGS=$(SANITIZE_FLAGS)" "-DCMAKE_SHARED_LINKER_FLAGS=$(SANITIZE_FLAGS)" > /dev/null
 

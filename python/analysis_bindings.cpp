@@ -266,9 +266,9 @@ void bind_analysis(py::module_& m) {
         masses.is_none() ? std::vector<double>(n, 1.0) : to_vector<double>(masses.cast<DoubleArray>(), n, "masses");
     std::vector<std::pair<std::int32_t, double>> size_and_mass;
     for (int c = 0; c < clusters.n_clusters(); ++c) {
-      double m = 0.0;
-      for (std::int32_t i : clusters.members_of(c)) m += mass[i];
-      size_and_mass.push_back({clusters.size(c), m});
+      double cluster_mass = 0.0;
+      for (std::int32_t i : clusters.members_of(c)) cluster_mass += mass[i];
+      size_and_mass.push_back({clusters.size(c), cluster_mass});
     }
     std::vector<std::int64_t> size, count;
     std::vector<double> bin_mass;

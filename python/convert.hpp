@@ -11,9 +11,9 @@
 
 #include "ballagg/analysis/linear_fit.hpp"
 #include "ballagg/config/config.hpp"
+#include "ballagg/core/box.hpp"
 #include "ballagg/core/spin.hpp"
 #include "ballagg/core/vec.hpp"
-#include "ballagg/spatial/box.hpp"
 
 namespace ballagg::python {
 

@@ -2,8 +2,8 @@
 // callback, the state as numpy arrays, every analysis function, and run directories.
 #include "bindings.hpp"
 
+#include "ballagg/core/version.hpp"
 #include "ballagg/io/output_error.hpp"
-#include "ballagg/version.hpp"
 
 PYBIND11_MODULE(ballagg, m) {
   namespace py = pybind11;

@@ -6,10 +6,10 @@
 #include "analysis_convert.hpp"
 #include "bindings.hpp"
 
+#include "ballagg/config/text_file.hpp"
 #include "ballagg/initial/initial_state.hpp"
 #include "ballagg/io/h5md_reader.hpp"
-#include "ballagg/io/run_directory.hpp"
-#include "ballagg/io/text_file.hpp"
+#include "ballagg/run/run_directory.hpp"
 
 namespace ballagg::python {
 namespace {

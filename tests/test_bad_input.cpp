@@ -149,7 +149,7 @@ TEST_P(BadInput, IsOneLineStatus2AndWritesNothing) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Corpus, BadInput, ::testing::ValuesIn(manifest()),
-                         [](const ::testing::TestParamInfo<BadInputCase>& info) { return info.param.name; });
+                         [](const ::testing::TestParamInfo<BadInputCase>& param_info) { return param_info.param.name; });
 
 // Every input file of the corpus is used by a case: named by an argument, itself or a
 // directory holding it (checkpoint/truncated for checkpoint/truncated/checkpoint.bin).

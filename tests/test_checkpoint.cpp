@@ -14,8 +14,8 @@
 #include <random>
 #include <thread>
 
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/state_codec.hpp"
-#include "ballagg/io/byte_stream.hpp"
 #include "ballagg/io/checkpoint_file.hpp"
 #include "ballagg/io/h5md_reader.hpp"
 #include "ballagg/io/state_csv.hpp"

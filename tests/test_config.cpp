@@ -842,7 +842,7 @@ TEST(Config, AbsurdlyDeepDottedKeyIsAnErrorNotAStackOverflow) {
 // A --set value that is not UTF-8 would be written into config.toml and summary.json,
 // which every TOML and JSON reader then refuses: it is refused with the byte's place.
 TEST(Config, SetArgumentThatIsNotUtf8IsRefusedNamingTheByte) {
-  for (const std::string bad : {std::string("initial.file=st\xf6.csv"), std::string("initial.file=e\xf0\xff\xff\xffx"),
+  for (const std::string& bad : {std::string("initial.file=st\xf6.csv"), std::string("initial.file=e\xf0\xff\xff\xffx"),
                                 std::string("initial.file=\xc0\xaf"),           // overlong '/'
                                 std::string("initial.file=\xed\xa0\x80"),       // a surrogate
                                 std::string("initial.file=\xf4\x90\x80\x80")}) {  // above U+10FFFF

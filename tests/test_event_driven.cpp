@@ -25,7 +25,7 @@ class EventDriven : public ::testing::TestWithParam<std::string> {
 };
 
 INSTANTIATE_TEST_SUITE_P(Engines, EventDriven, ::testing::Values("ed", "ed-naive"),
-                         [](const auto& info) { return info.param == "ed" ? std::string("ed") : std::string("naive"); });
+                         [](const auto& param_info) { return param_info.param == "ed" ? std::string("ed") : std::string("naive"); });
 
 // Runs to time t however many clusters remain (a single cluster would otherwise stop the
 // run at once: the default stop.clusters is 1).

@@ -21,8 +21,8 @@
 #include <fmt/format.h>
 #include <gtest/gtest.h>
 
+#include "ballagg/config/text_file.hpp"
 #include "ballagg/io/directory_lock.hpp"
-#include "ballagg/io/text_file.hpp"
 #include "cli_support.hpp"
 #include "support.hpp"
 

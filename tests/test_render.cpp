@@ -18,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include "ballagg/io/h5md_reader.hpp"
+#include "ballagg/io/state_csv.hpp"
 #include "ballagg/render/disc_picture.hpp"
 #include "ballagg/render/picture.hpp"
 #include "ballagg/render/pov_scene.hpp"

@@ -13,6 +13,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "ballagg/io/state_csv.hpp"
+
 #include "support.hpp"
 
 namespace ballagg {

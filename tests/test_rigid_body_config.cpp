@@ -13,6 +13,7 @@
 
 #include "ballagg/config/config.hpp"
 #include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
+#include "ballagg/io/state_csv.hpp"
 #include "ballagg/run/analyze_run.hpp"
 #include "support.hpp"
 

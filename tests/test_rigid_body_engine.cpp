@@ -9,7 +9,7 @@
 
 #include "ballagg/analysis/overlap.hpp"
 #include "ballagg/collision/contact_time.hpp"
-#include "ballagg/engines/rigid_body/inertia.hpp"
+#include "ballagg/core/inertia.hpp"
 #include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
 #include "support.hpp"
 

@@ -6,9 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include "ballagg/core/inertia.hpp"
 #include "ballagg/core/random.hpp"
 #include "ballagg/engines/rigid_body/free_rotation.hpp"
-#include "ballagg/engines/rigid_body/inertia.hpp"
 #include "ballagg/engines/rigid_body/rigid_bodies.hpp"
 #include "support.hpp"
 

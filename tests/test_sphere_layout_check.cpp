@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "ballagg/initial/sphere_layout_check.hpp"
+#include "ballagg/io/state_csv.hpp"
 #include "support.hpp"
 
 namespace ballagg {

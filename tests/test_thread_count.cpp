@@ -11,11 +11,11 @@
 
 #include <gtest/gtest.h>
 
-#include "ballagg/analysis/pair_scan.hpp"
 #include "ballagg/core/parallel.hpp"
 #include "ballagg/initial/initial_state.hpp"
 #include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/verify_run.hpp"
+#include "ballagg/spatial/pair_scan.hpp"
 #include "support.hpp"
 #include "thread_count.hpp"
 
@@ -116,10 +116,10 @@ class ThreadCountTimeStepping : public ::testing::TestWithParam<std::tuple<TsMod
 INSTANTIATE_TEST_SUITE_P(EveryModel, ThreadCountTimeStepping,
                          ::testing::Combine(::testing::Values(TsModel::rigid, TsModel::almost_rigid, TsModel::non_rigid),
                                             ::testing::Values(2, 3)),
-                         [](const auto& info) {
-                           std::string name(to_string(std::get<0>(info.param)));
+                         [](const auto& param_info) {
+                           std::string name(to_string(std::get<0>(param_info.param)));
                            std::replace(name.begin(), name.end(), '-', '_');
-                           return name + "_" + std::to_string(std::get<1>(info.param)) + "D";
+                           return name + "_" + std::to_string(std::get<1>(param_info.param)) + "D";
                          });
 
 TEST_P(ThreadCountTimeStepping, RunFilesDoNotDependOnIt) {

@@ -56,8 +56,8 @@ double distance(const State<D>& s, int i, int j) {
 class TimeStepping : public ::testing::TestWithParam<TsModel> {};
 INSTANTIATE_TEST_SUITE_P(Models, TimeStepping,
                          ::testing::Values(TsModel::rigid, TsModel::almost_rigid, TsModel::non_rigid),
-                         [](const auto& info) {
-                           std::string name(to_string(info.param));
+                         [](const auto& param_info) {
+                           std::string name(to_string(param_info.param));
                            std::replace(name.begin(), name.end(), '-', '_');
                            return name;
                          });

@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "ballagg/version.hpp"
+#include "ballagg/core/version.hpp"
 
 namespace ballagg::cli {
 namespace {

@@ -11,7 +11,7 @@
 
 #include <fmt/format.h>
 
-#include "ballagg/config/config.hpp"
+#include "ballagg/core/input_error.hpp"
 #include "plot_script.hpp"
 
 namespace ballagg::cli {

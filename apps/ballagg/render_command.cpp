@@ -7,13 +7,13 @@
 
 #include <fmt/format.h>
 
-#include "ballagg/config/config.hpp"
+#include "ballagg/core/input_error.hpp"
 #include "ballagg/io/h5md_reader.hpp"
 #include "ballagg/io/output_dir.hpp"
-#include "ballagg/io/run_directory.hpp"
 #include "ballagg/render/picture.hpp"
 #include "ballagg/render/pov_scene.hpp"
 #include "ballagg/render/video.hpp"
+#include "ballagg/run/run_directory.hpp"
 
 namespace fs = std::filesystem;
 

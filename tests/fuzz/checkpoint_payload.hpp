@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include "ballagg/io/byte_stream.hpp"
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/io/checkpoint_file.hpp"
 
 namespace ballagg::testing {

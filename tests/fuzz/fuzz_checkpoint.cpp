@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "ballagg/io/byte_stream.hpp"
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/io/checkpoint_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -12,8 +12,8 @@
 #include <string_view>
 
 #include "ballagg/config/config.hpp"
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/state_codec.hpp"
-#include "ballagg/io/byte_stream.hpp"
 #include "ballagg/io/checkpoint_file.hpp"
 #include "ballagg/io/timeseries.hpp"
 #include "ballagg/run/simulation.hpp"

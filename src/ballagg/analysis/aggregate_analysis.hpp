@@ -18,8 +18,8 @@
 #include "ballagg/analysis/mass_radius.hpp"
 #include "ballagg/analysis/mass_spectrum.hpp"
 #include "ballagg/analysis/pair_distribution.hpp"
-#include "ballagg/io/state_csv.hpp"
-#include "ballagg/spatial/box.hpp"
+#include "ballagg/core/box.hpp"
+#include "ballagg/core/sphere_table.hpp"
 
 namespace ballagg {
 

@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "ballagg/analysis/linear_fit.hpp"
+#include "ballagg/core/box.hpp"
 #include "ballagg/core/vec.hpp"
-#include "ballagg/spatial/box.hpp"
 
 namespace ballagg {
 

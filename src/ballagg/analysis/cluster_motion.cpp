@@ -1,6 +1,6 @@
 #include "ballagg/analysis/cluster_motion.hpp"
 
-#include "ballagg/engines/rigid_body/inertia.hpp"
+#include "ballagg/core/inertia.hpp"
 
 namespace ballagg {
 

@@ -10,8 +10,8 @@
 #include <span>
 #include <vector>
 
+#include "ballagg/core/sphere_table.hpp"
 #include "ballagg/core/spin.hpp"
-#include "ballagg/io/state_csv.hpp"
 
 namespace ballagg {
 

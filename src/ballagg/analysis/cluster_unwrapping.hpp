@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "ballagg/analysis/cluster_partition.hpp"
+#include "ballagg/core/box.hpp"
 #include "ballagg/core/vec.hpp"
-#include "ballagg/spatial/box.hpp"
 
 namespace ballagg {
 

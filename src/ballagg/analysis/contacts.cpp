@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <atomic>
 
-#include "ballagg/analysis/pair_scan.hpp"
+#include "ballagg/spatial/pair_scan.hpp"
 
 namespace ballagg {
 

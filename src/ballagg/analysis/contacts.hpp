@@ -15,8 +15,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "ballagg/core/box.hpp"
 #include "ballagg/core/vec.hpp"
-#include "ballagg/spatial/box.hpp"
 
 namespace ballagg {
 

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "ballagg/analysis/pair_scan.hpp"
+#include "ballagg/spatial/pair_scan.hpp"
 
 namespace ballagg {
 
@@ -41,10 +41,10 @@ PairDistribution pair_distribution(const Box<D>& box, const std::vector<Vec<D>>&
   }
   // Only where P > 0 (a cluster too small to reach r has no pairs there).
   auto fit = [&](const std::vector<double>& values) {
-    std::vector<double> x, y;
+    std::vector<double> log_r, log_p;
     for (std::size_t k = 0; k < values.size(); ++k)
-      if (values[k] > 0.0) x.push_back(std::log(p.r[k])), y.push_back(std::log(values[k]));
-    return fit_line(x, y);
+      if (values[k] > 0.0) log_r.push_back(std::log(p.r[k])), log_p.push_back(std::log(values[k]));
+    return fit_line(log_r, log_p);
   };
   p.all_fit = fit(p.all);
   p.cluster_fit = fit(p.cluster);

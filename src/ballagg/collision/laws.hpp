@@ -1,16 +1,10 @@
 #pragma once
 // Collision laws between two bodies (clusters that translate without rotating) and with a
-// wall. Shared by every engine.
+// wall. Shared by every engine. Sticking (rule 2.9) is in core/stick_velocity.hpp.
+#include "ballagg/core/stick_velocity.hpp"
 #include "ballagg/core/vec.hpp"
 
 namespace ballagg {
-
-// Sticking (rule 2.9): the merged body moves with the mass-weighted mean velocity.
-// Conserves momentum exactly up to one rounding per component.
-template <int D>
-Vec<D> stick_velocity(double m1, const Vec<D>& v1, double m2, const Vec<D>& v2) {
-  return (m1 * v1 + m2 * v2) / (m1 + m2);
-}
 
 // Restitution (rules 2.3-2.7): the normal relative velocity g = (v1 - v2).n becomes
 // -restitution * g, momentum is conserved and tangential velocities are unchanged;

@@ -1,8 +1,8 @@
 #pragma once
 // Applying the collision laws to clusters in the shared state.
+#include "ballagg/collision/collision_settings.hpp"
 #include "ballagg/collision/laws.hpp"
 #include "ballagg/core/state.hpp"
-#include "ballagg/engines/engine.hpp"
 
 namespace ballagg {
 

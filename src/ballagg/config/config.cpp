@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
+#include "ballagg/config/text_file.hpp"
 #include "ballagg/config/value_ranges.hpp"
-#include "ballagg/io/text_file.hpp"
 
 namespace ballagg {
 namespace {
@@ -303,29 +303,29 @@ TimeSteppingSettings read_ts_section(const toml::table& root, const std::string&
                  fmt::format("must be at least {:g} (a step must move the fastest sphere by a length positions "
                              "resolve)", range::kMinDtFactor));
   if (dt_factor) t.dt_factor = *dt_factor;
-  if (auto v = ts.real("dt_growth", [](double v) { return v >= 1.0 && v <= 1e3; }, "must be a number in [1, 1000]"))
+  if (auto v = ts.real("dt_growth", [](double x) { return x >= 1.0 && x <= 1e3; }, "must be a number in [1, 1000]"))
     t.dt_growth = *v;
   t.delta_w = ts.real("delta_w", positive, "must be a number > 0 (a length; default 4 R)");
-  if (auto v = ts.real("bond_stretch", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]"))
+  if (auto v = ts.real("bond_stretch", [](double x) { return x > 0.0 && x <= 1.0; }, "must be a number in (0, 1]"))
     t.bond_stretch = *v;
   if (auto v = ts.integer("max_link_rounds", 1, 1'000'000, "must be an integer from 1 to 1000000"))
     t.max_link_rounds = static_cast<int>(*v);
-  if (auto v = ts.real("retreat_overlap", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]"))
+  if (auto v = ts.real("retreat_overlap", [](double x) { return x > 0.0 && x <= 1.0; }, "must be a number in (0, 1]"))
     t.retreat_overlap = *v;
   if (auto v = ts.integer("retreat_pairs", 1, 1'000'000'000, "must be an integer from 1 to 1000000000"))
     t.retreat_pairs = static_cast<int>(*v);
-  if (auto v = ts.real("sweep_reuse_margin", [](double v) { return v >= 0.0 && v <= 1e3; },
+  if (auto v = ts.real("sweep_reuse_margin", [](double x) { return x >= 0.0 && x <= 1e3; },
                        "must be a number in [0, 1000] (sphere radii)"))
     t.sweep_reuse_margin = *v;
   if (auto v = ts.real("alpha", positive, "must be a number > 0")) d.alpha = *v;
-  if (auto v = ts.real("gamma", [](double v) { return v >= 0.0; }, "must be a number >= 0")) d.gamma = *v;
+  if (auto v = ts.real("gamma", [](double x) { return x >= 0.0; }, "must be a number >= 0")) d.gamma = *v;
   if (auto v = ts.real("delta", positive, "must be a number > 0")) d.delta = *v;
-  if (auto v = ts.real("c_bar", [](double v) { return v >= 0.0; }, "must be a number >= 0")) d.c_bar = *v;
-  if (auto v = ts.real("c_min", [](double v) { return v >= 0.0 && v < 1.0; }, "must be a number in [0, 1)")) d.c_min = *v;
-  if (auto v = ts.real("c_max", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]")) d.c_max = *v;
+  if (auto v = ts.real("c_bar", [](double x) { return x >= 0.0; }, "must be a number >= 0")) d.c_bar = *v;
+  if (auto v = ts.real("c_min", [](double x) { return x >= 0.0 && x < 1.0; }, "must be a number in [0, 1)")) d.c_min = *v;
+  if (auto v = ts.real("c_max", [](double x) { return x > 0.0 && x <= 1.0; }, "must be a number in (0, 1]")) d.c_max = *v;
   if (auto v = ts.real("beta_bar", positive, "must be a number > 0")) d.beta_bar = *v;
   if (auto v = ts.real("beta_max", positive, "must be a number > 0")) d.beta_max = *v;
-  if (auto v = ts.real("lambda0", [](double v) { return v >= 0.0; }, "must be a number >= 0")) d.lambda0 = *v;
+  if (auto v = ts.real("lambda0", [](double x) { return x >= 0.0; }, "must be a number >= 0")) d.lambda0 = *v;
   if (auto v = ts.real("eps_s", in_open_unit, "must be a number in (0, 1)")) d.eps_s = *v;
   if (auto v = ts.real("eps_c", in_open_unit, "must be a number in (0, 1)")) d.eps_c = *v;
   if (auto v = ts.integer("max_iterations", 1, 100'000'000, "must be an integer from 1 to 100000000"))
@@ -541,10 +541,10 @@ Config read_config(const toml::table& root, const std::string& source, const std
   stop.reject_unknown_keys();
 
   SectionReader out(root, "output", source, overridden);
-  if (auto v = out.real("timeseries_interval", [](double v) { return v >= 0.0; }, "must be a number >= 0 (0: none)"))
+  if (auto v = out.real("timeseries_interval", [](double x) { return x >= 0.0; }, "must be a number >= 0 (0: none)"))
     c.output.timeseries_interval = *v;
   if (auto v = out.boolean("xyz")) c.output.xyz = *v;
-  if (auto v = out.real("snapshot_every", [](double v) { return v >= 0.0; }, "must be a number >= 0 (0: no trajectory)"))
+  if (auto v = out.real("snapshot_every", [](double x) { return x >= 0.0; }, "must be a number >= 0 (0: no trajectory)"))
     c.output.snapshot_every = *v;
   if (auto v = out.choices("snapshot_formats", {"h5md", "xyz"})) {
     c.output.snapshot_formats.clear();
@@ -552,7 +552,7 @@ Config read_config(const toml::table& root, const std::string& source, const std
   }
   if (auto v = out.choice("snapshot_precision", {"single", "double"}))
     c.output.snapshot_precision = static_cast<SnapshotPrecision>(*v);
-  if (auto v = out.real("checkpoint_every", [](double v) { return v >= 0.0; },
+  if (auto v = out.real("checkpoint_every", [](double x) { return x >= 0.0; },
                         "must be a number of wall seconds >= 0 (0: checkpoints on SIGINT/SIGTERM only)"))
     c.output.checkpoint_every = *v;
   out.reject_unknown_keys();

@@ -5,23 +5,17 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "ballagg/core/box.hpp"
+#include "ballagg/core/input_error.hpp"
 #include "ballagg/engines/engine.hpp"
 #include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
 #include "ballagg/engines/time_stepping/ts_settings.hpp"
-#include "ballagg/spatial/box.hpp"
 
 namespace ballagg {
-
-// Bad input: the message is one line for the user; the command line exits with status 2.
-class InputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 enum class InitialPositions { lattice, random, file };
 enum class InitialVelocities { fixed_speed, uniform, gaussian };

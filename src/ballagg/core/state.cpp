@@ -4,7 +4,7 @@
 #include <atomic>
 #include <limits>
 
-#include "ballagg/collision/laws.hpp"
+#include "ballagg/core/stick_velocity.hpp"
 #include "ballagg/core/tolerances.hpp"
 
 namespace ballagg {

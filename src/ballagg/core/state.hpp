@@ -9,9 +9,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "ballagg/core/box.hpp"
 #include "ballagg/core/spin.hpp"
 #include "ballagg/core/vec.hpp"
-#include "ballagg/spatial/box.hpp"
 
 namespace ballagg {
 

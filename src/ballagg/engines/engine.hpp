@@ -8,23 +8,11 @@
 #include <string>
 #include <string_view>
 
+#include "ballagg/collision/collision_settings.hpp"
 #include "ballagg/core/run_guard.hpp"
 #include "ballagg/core/state.hpp"
 
 namespace ballagg {
-
-// energy_threshold (rigid-body engine only, Richardson 1995 §3): impacts with less energy
-// than a threshold stick, the others bounce.
-enum class CollisionOutcome { stick, bounce, energy_threshold };
-
-struct CollisionSettings {
-  CollisionOutcome outcome = CollisionOutcome::stick;
-  double restitution = 1.0;  // bounce only, in [0, 1]
-  // TC model (Luding & McNamara 1998): a bounce involving a body whose previous collision
-  // was less than tc_time ago is elastic. Prevents inelastic collapse (infinitely many
-  // collisions in a finite time) from stalling a run. 0 disables it.
-  double tc_time = 0.0;
-};
 
 struct StopCriteria {
   int clusters = 1;

@@ -14,6 +14,7 @@
 #include "ballagg/core/tolerances.hpp"
 #include "ballagg/initial/sphere_layout_check.hpp"
 #include "ballagg/initial/state_ranges.hpp"
+#include "ballagg/io/state_csv.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
 
 namespace ballagg {

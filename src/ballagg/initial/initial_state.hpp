@@ -2,8 +2,8 @@
 // The state at t = 0 from a configuration: spheres placed on a lattice (paper §4.1), at
 // random without overlaps, or read from a file; velocities drawn from the chosen law.
 #include "ballagg/config/config.hpp"
+#include "ballagg/core/sphere_table.hpp"
 #include "ballagg/core/state.hpp"
-#include "ballagg/io/state_csv.hpp"
 
 namespace ballagg {
 

@@ -7,10 +7,10 @@
 
 #include <fmt/format.h>
 
-#include "ballagg/analysis/pair_scan.hpp"
 #include "ballagg/core/disjoint_sets.hpp"
 #include "ballagg/core/parallel.hpp"
 #include "ballagg/core/tolerances.hpp"
+#include "ballagg/spatial/pair_scan.hpp"
 
 namespace ballagg {
 namespace {

@@ -9,8 +9,8 @@
 #include <optional>
 
 #include "ballagg/config/config.hpp"
-#include "ballagg/io/state_csv.hpp"
-#include "ballagg/spatial/box.hpp"
+#include "ballagg/core/box.hpp"
+#include "ballagg/core/sphere_table.hpp"
 
 namespace ballagg {
 

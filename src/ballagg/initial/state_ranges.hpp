@@ -4,8 +4,8 @@
 // against the file's smallest radius), and the values resolved from the state (the
 // neighbour-list skin as a periodic box leaves room for it).
 #include "ballagg/config/config.hpp"
+#include "ballagg/core/sphere_table.hpp"
 #include "ballagg/core/state.hpp"
-#include "ballagg/io/state_csv.hpp"
 
 namespace ballagg {
 

@@ -6,10 +6,10 @@
 
 #include <fmt/format.h>
 
+#include "ballagg/config/text_file.hpp"
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/run_guard.hpp"
 #include "ballagg/io/atomic_file.hpp"
-#include "ballagg/io/byte_stream.hpp"
-#include "ballagg/io/text_file.hpp"
 
 namespace fs = std::filesystem;
 

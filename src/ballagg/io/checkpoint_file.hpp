@@ -5,7 +5,7 @@
 //   version     uint32, kCheckpointFormat (raised whenever any section's layout changes)
 //   byte order  uint32 0x01020304 as written by the machine that wrote the file
 //   size        uint64, bytes of the payload
-//   payload     sections (byte_stream.hpp encoding): program version, dimension, engine,
+//   payload     sections (core/byte_stream.hpp encoding): program version, dimension, engine,
 //               resolved configuration (TOML), wall seconds so far, then the opaque
 //               sections of the run's parts (initial totals, state, engine, recorders)
 //   crc32       uint32 of the payload (zlib)

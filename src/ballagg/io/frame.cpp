@@ -4,7 +4,7 @@
 #include <mutex>
 #include <stdexcept>
 
-#include "ballagg/engines/time_stepping/walls.hpp"
+#include "ballagg/spatial/walls.hpp"
 
 namespace ballagg {
 

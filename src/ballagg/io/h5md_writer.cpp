@@ -11,11 +11,11 @@
 #include <fmt/format.h>
 
 #include "ballagg/config/config.hpp"
+#include "ballagg/core/version.hpp"
 #include "ballagg/io/hdf5_handle.hpp"
-#include "ballagg/io/temporary_files.hpp"
 #include "ballagg/io/output_dir.hpp"
 #include "ballagg/io/output_error.hpp"
-#include "ballagg/version.hpp"
+#include "ballagg/io/temporary_files.hpp"
 
 namespace ballagg {
 

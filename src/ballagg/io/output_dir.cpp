@@ -12,8 +12,8 @@
 
 #include <fmt/format.h>
 
+#include "ballagg/core/input_error.hpp"
 #include "ballagg/core/run_guard.hpp"
-#include "ballagg/config/config.hpp"
 #include "ballagg/io/atomic_file.hpp"
 #include "ballagg/io/output_error.hpp"
 

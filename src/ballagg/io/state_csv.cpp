@@ -9,8 +9,8 @@
 
 #include <fmt/format.h>
 
-#include "ballagg/config/config.hpp"
-#include "ballagg/io/text_file.hpp"
+#include "ballagg/config/text_file.hpp"
+#include "ballagg/core/input_error.hpp"
 
 namespace ballagg {
 namespace {

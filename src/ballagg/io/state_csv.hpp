@@ -6,23 +6,12 @@
 // Spheres with the same `cluster` value form one rigid cluster. Optional spin columns give
 // each cluster's angular velocity: wz (2D) or wx,wy,wz (3D); final.csv of a rigid-body run
 // has them.
-#include <cstdint>
 #include <string>
-#include <vector>
 
+#include "ballagg/core/sphere_table.hpp"
 #include "ballagg/core/state.hpp"
 
 namespace ballagg {
-
-template <int D>
-struct SphereTable {
-  std::vector<Vec<D>> position, velocity;
-  std::vector<double> radius, mass;
-  std::vector<std::int64_t> cluster;  // empty when the file has no cluster column
-  std::vector<Spin<D>> spin;          // empty when the file has no spin columns
-  std::vector<int> line;              // file line of each sphere, for error messages
-  std::string source;                 // file name
-};
 
 // Throws InputError naming the file line for any malformed content.
 template <int D>

@@ -5,8 +5,8 @@
 
 #include <fmt/format.h>
 
-#include "ballagg/config/config.hpp"
-#include "ballagg/io/byte_stream.hpp"
+#include "ballagg/core/byte_stream.hpp"
+#include "ballagg/core/input_error.hpp"
 
 namespace ballagg {
 

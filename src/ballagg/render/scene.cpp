@@ -4,7 +4,7 @@
 
 #include <fmt/format.h>
 
-#include "ballagg/config/config.hpp"
+#include "ballagg/core/input_error.hpp"
 
 namespace ballagg {
 

@@ -10,7 +10,7 @@
 #include "ballagg/io/analysis_files.hpp"
 #include "ballagg/io/directory_lock.hpp"
 #include "ballagg/io/output_dir.hpp"
-#include "ballagg/io/run_directory.hpp"
+#include "ballagg/run/run_directory.hpp"
 
 namespace ballagg {
 namespace {

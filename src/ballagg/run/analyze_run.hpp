@@ -3,13 +3,13 @@
 // to the analysis files (io/analysis_files.hpp).
 #include <string>
 
+#include "ballagg/core/box.hpp"
 #include "ballagg/io/state_csv.hpp"
-#include "ballagg/spatial/box.hpp"
 
 namespace ballagg {
 
 struct AnalyzeRequest {
-  std::string run_dir;     // a finished run's directory (io/run_directory.hpp): its config.toml and final.csv
+  std::string run_dir;     // a finished run's directory (run/run_directory.hpp): its config.toml and final.csv
   std::string state_file;  // default: RUN_DIR/final.csv
   std::string config_file; // default: RUN_DIR/config.toml
   std::string out_dir;     // default: RUN_DIR, or the state file's directory

@@ -7,7 +7,7 @@
 
 #include <fmt/format.h>
 
-#include "ballagg/config/config.hpp"
+#include "ballagg/core/input_error.hpp"
 #include "ballagg/io/checkpoint_file.hpp"
 #include "ballagg/io/output_dir.hpp"
 

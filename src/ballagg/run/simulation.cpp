@@ -11,26 +11,26 @@
 #include <nlohmann/json.hpp>
 
 #include "ballagg/analysis/overlap.hpp"
-#include "ballagg/core/state_codec.hpp"
 #include "ballagg/collision/contact_time.hpp"
+#include "ballagg/core/byte_stream.hpp"
+#include "ballagg/core/state_codec.hpp"
+#include "ballagg/core/version.hpp"
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
 #include "ballagg/engines/rigid_body/rigid_bodies.hpp"
 #include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
 #include "ballagg/engines/time_stepping/time_stepping_engine.hpp"
 #include "ballagg/initial/initial_state.hpp"
 #include "ballagg/initial/state_ranges.hpp"
-#include "ballagg/io/byte_stream.hpp"
 #include "ballagg/io/checkpoint_file.hpp"
 #include "ballagg/io/output_dir.hpp"
 #include "ballagg/io/state_csv.hpp"
 #include "ballagg/io/timeseries.hpp"
 #include "ballagg/io/xyz.hpp"
-#include "ballagg/run/checkpointer.hpp"
 #include "ballagg/run/analyze_run.hpp"
+#include "ballagg/run/checkpointer.hpp"
 #include "ballagg/run/progress.hpp"
 #include "ballagg/run/run_files.hpp"
 #include "ballagg/run/snapshots.hpp"
-#include "ballagg/version.hpp"
 
 namespace ballagg {
 

@@ -5,7 +5,7 @@
 
 #include <fmt/format.h>
 
-#include "ballagg/io/byte_stream.hpp"
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/io/h5md_writer.hpp"
 #include "ballagg/io/xyz_trajectory_writer.hpp"
 

@@ -13,14 +13,14 @@
 
 #include "ballagg/analysis/cluster_partition.hpp"
 #include "ballagg/analysis/cluster_unwrapping.hpp"
-#include "ballagg/analysis/pair_scan.hpp"
-#include "ballagg/core/spin.hpp"
+#include "ballagg/config/text_file.hpp"
 #include "ballagg/core/disjoint_sets.hpp"
 #include "ballagg/core/parallel.hpp"
-#include "ballagg/io/run_directory.hpp"
+#include "ballagg/core/spin.hpp"
 #include "ballagg/io/state_csv.hpp"
-#include "ballagg/io/text_file.hpp"
+#include "ballagg/run/run_directory.hpp"
 #include "ballagg/run/verify_trajectory.hpp"
+#include "ballagg/spatial/pair_scan.hpp"
 
 namespace ballagg {
 namespace {

@@ -11,8 +11,8 @@
 
 #include <fmt/format.h>
 
+#include "ballagg/config/text_file.hpp"
 #include "ballagg/io/h5md_reader.hpp"
-#include "ballagg/io/text_file.hpp"
 
 namespace ballagg {
 namespace {

@@ -8,7 +8,7 @@
 // from two runs or written twice over.
 #include <string>
 
-#include "ballagg/io/run_directory.hpp"
+#include "ballagg/run/run_directory.hpp"
 #include "ballagg/run/verify_run.hpp"
 
 namespace ballagg {

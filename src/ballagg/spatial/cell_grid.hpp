@@ -11,9 +11,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "ballagg/core/box.hpp"
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/vec.hpp"
-#include "ballagg/io/byte_stream.hpp"
-#include "ballagg/spatial/box.hpp"
 #include "ballagg/spatial/grid_geometry.hpp"
 
 namespace ballagg {

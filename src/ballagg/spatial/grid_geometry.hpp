@@ -10,8 +10,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include "ballagg/core/box.hpp"
 #include "ballagg/core/vec.hpp"
-#include "ballagg/spatial/box.hpp"
 
 namespace ballagg {
 

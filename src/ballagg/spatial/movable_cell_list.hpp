@@ -11,8 +11,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "ballagg/core/box.hpp"
 #include "ballagg/core/vec.hpp"
-#include "ballagg/spatial/box.hpp"
 #include "ballagg/spatial/sorted_cell_list.hpp"
 
 namespace ballagg {

@@ -10,8 +10,8 @@
 #include <span>
 #include <vector>
 
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/small_vector.hpp"
-#include "ballagg/io/byte_stream.hpp"
 
 namespace ballagg {
 

@@ -10,9 +10,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "ballagg/core/box.hpp"
 #include "ballagg/core/parallel.hpp"
 #include "ballagg/core/vec.hpp"
-#include "ballagg/spatial/box.hpp"
 #include "ballagg/spatial/grid_geometry.hpp"
 
 namespace ballagg {

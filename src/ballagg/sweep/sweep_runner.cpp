@@ -13,10 +13,10 @@
 #include <omp.h>
 #endif
 
+#include "ballagg/config/text_file.hpp"
 #include "ballagg/core/run_guard.hpp"
 #include "ballagg/io/directory_lock.hpp"
 #include "ballagg/io/output_dir.hpp"
-#include "ballagg/io/text_file.hpp"
 #include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/checkpointer.hpp"
 #include "ballagg/run/simulation.hpp"
@@ -123,7 +123,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Commu
         fs::remove(dir / "error.txt", ec);  // left by an earlier attempt
         ++ran;
         if (!o.quiet) {
-          const std::lock_guard<std::mutex> lock(print);
+          const std::lock_guard<std::mutex> printing(print);
           fmt::print("sweep: {} done\n", (fs::path("runs") / r.name).string());
           std::fflush(stdout);
         }
@@ -131,7 +131,7 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Commu
         // Stopped under way: it leaves nothing and runs again when the sweep is resumed.
       } catch (const std::exception& e) {
         ++failed;
-        const std::lock_guard<std::mutex> lock(print);
+        const std::lock_guard<std::mutex> printing(print);
         fmt::print(stderr, "ballagg: sweep: run {} failed: {}\n", dir.string(), e.what());
         std::error_code ec;
         fs::create_directories(dir, ec);

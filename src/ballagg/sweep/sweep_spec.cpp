@@ -8,7 +8,7 @@
 #include <fmt/format.h>
 #include <toml++/toml.h>
 
-#include "ballagg/io/text_file.hpp"
+#include "ballagg/config/text_file.hpp"
 
 namespace ballagg {
 namespace {

@@ -10,8 +10,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "ballagg/config/text_file.hpp"
 #include "ballagg/io/output_dir.hpp"
-#include "ballagg/io/text_file.hpp"
 
 namespace ballagg {
 namespace {

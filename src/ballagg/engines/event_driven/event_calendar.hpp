@@ -17,10 +17,10 @@
 #include <optional>
 #include <vector>
 
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/small_vector.hpp"
 #include "ballagg/engines/engine.hpp"
 #include "ballagg/engines/event_driven/bucket_queue.hpp"
-#include "ballagg/io/byte_stream.hpp"
 
 namespace ballagg {
 

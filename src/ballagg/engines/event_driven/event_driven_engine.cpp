@@ -35,10 +35,10 @@
 
 #include "ballagg/collision/prediction.hpp"
 #include "ballagg/collision/resolve.hpp"
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/prefetch.hpp"
-#include "ballagg/engines/event_driven/event_loop.hpp"
 #include "ballagg/engines/event_driven/event_calendar.hpp"
-#include "ballagg/io/byte_stream.hpp"
+#include "ballagg/engines/event_driven/event_loop.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
 #include "ballagg/spatial/neighbor_lists.hpp"
 

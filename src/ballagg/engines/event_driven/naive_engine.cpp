@@ -6,9 +6,9 @@
 
 #include "ballagg/collision/prediction.hpp"
 #include "ballagg/collision/resolve.hpp"
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
-#include "ballagg/io/byte_stream.hpp"
 
 namespace ballagg {
 namespace {

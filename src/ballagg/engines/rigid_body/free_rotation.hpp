@@ -75,7 +75,7 @@ class FreeRotation<3> {
   double max_angular_acceleration() const { return max_acceleration_; }
   bool rotating() const { return kind_ != Kind::rest; }
 
-  // Checkpoints (io/byte_stream.hpp writer and reader): every member as it is, so that a
+  // Checkpoints (core/byte_stream.hpp writer and reader): every member as it is, so that a
   // restored rotation gives the saved one's poses bit for bit (building it again from the
   // orientation at t0 would, but the orientation passed through a quaternion is not kept).
   template <class Writer>

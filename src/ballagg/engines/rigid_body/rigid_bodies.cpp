@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "ballagg/collision/rigid_coagulation.hpp"
-#include "ballagg/io/byte_stream.hpp"
+#include "ballagg/core/byte_stream.hpp"
 
 namespace ballagg {
 namespace {

@@ -18,9 +18,9 @@
 #include <vector>
 
 #include "ballagg/collision/rigid_impulse.hpp"
+#include "ballagg/core/inertia.hpp"
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/rigid_body/free_rotation.hpp"
-#include "ballagg/engines/rigid_body/inertia.hpp"
 
 namespace ballagg {
 

@@ -36,13 +36,13 @@
 
 #include "ballagg/collision/prediction.hpp"
 #include "ballagg/collision/rigid_impulse.hpp"
-#include "ballagg/config/config.hpp"
+#include "ballagg/core/byte_stream.hpp"
+#include "ballagg/core/input_error.hpp"
 #include "ballagg/engines/event_driven/event_calendar.hpp"
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
 #include "ballagg/engines/rigid_body/contact_search.hpp"
 #include "ballagg/engines/rigid_body/rigid_bodies.hpp"
-#include "ballagg/io/byte_stream.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
 #include "ballagg/spatial/neighbor_lists.hpp"
 

@@ -98,8 +98,8 @@ inline constexpr int kSmallClusterSize = 32;
 // Which clusters of a group for_each_neighbour_of_group queries.
 template <int D>
 struct QueriedClusters {
-  QueriedClusters(const ProblemContext<D>& ctx, const CollisionGroup& g, int max_size)
-      : s(ctx.state), clusters(clusters_of_group(ctx, g)), largest(clusters.front().first), max_size(max_size) {
+  QueriedClusters(const ProblemContext<D>& ctx, const CollisionGroup& g, int size_limit)
+      : s(ctx.state), clusters(clusters_of_group(ctx, g)), largest(clusters.front().first), max_size(size_limit) {
     for (const auto& [c, b] : clusters)
       if (s.clusters[c].size() > s.clusters[largest].size()) largest = c;
   }

@@ -11,9 +11,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/time_stepping/ts_settings.hpp"
-#include "ballagg/io/byte_stream.hpp"
 
 namespace ballagg {
 

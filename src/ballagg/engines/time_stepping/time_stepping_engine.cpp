@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "ballagg/core/adaptive_team.hpp"
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/parallel.hpp"
 #include "ballagg/core/prefetch.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
@@ -20,9 +21,8 @@
 #include "ballagg/engines/time_stepping/retreat.hpp"
 #include "ballagg/engines/time_stepping/step_bodies.hpp"
 #include "ballagg/engines/time_stepping/time_step_rule.hpp"
-#include "ballagg/engines/time_stepping/walls.hpp"
 #include "ballagg/spatial/movable_cell_list.hpp"
-#include "ballagg/io/byte_stream.hpp"
+#include "ballagg/spatial/walls.hpp"
 
 namespace ballagg {
 namespace {

@@ -16,7 +16,7 @@
 
 #include <fmt/format.h>
 
-#include "ballagg/config/config.hpp"
+#include "ballagg/core/input_error.hpp"
 #include "ballagg/core/vec.hpp"
 
 namespace ballagg {

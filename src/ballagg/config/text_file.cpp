@@ -1,4 +1,4 @@
-#include "ballagg/io/text_file.hpp"
+#include "ballagg/config/text_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -11,7 +11,7 @@
 
 #include <fmt/format.h>
 
-#include "ballagg/config/config.hpp"
+#include "ballagg/core/input_error.hpp"
 
 namespace ballagg {
 namespace {

@@ -1,13 +1,13 @@
-#include "ballagg/io/run_directory.hpp"
+#include "ballagg/run/run_directory.hpp"
 
 #include <filesystem>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "ballagg/config/text_file.hpp"
 #include "ballagg/initial/initial_state.hpp"
 #include "ballagg/io/state_csv.hpp"
-#include "ballagg/io/text_file.hpp"
 
 namespace fs = std::filesystem;
 

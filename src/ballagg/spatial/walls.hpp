@@ -1,7 +1,8 @@
 #pragma once
-// Walls in the time-stepping engine (paper §3.1, step (ii)): after a free flight, a cluster
-// that crossed a wall is mirrored back into the box as a whole and its velocity component
-// reversed (rule 2.2 applied at the end of the step instead of at the exact instant).
+// Walls as the time-stepping engine applies them (paper §3.1, step (ii)): after a free
+// flight, a cluster that crossed a wall is mirrored back into the box as a whole and its
+// velocity component reversed (rule 2.2 applied at the end of the step instead of at the
+// exact instant).
 #include <algorithm>
 
 #include "ballagg/core/state.hpp"
