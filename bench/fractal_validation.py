@@ -51,9 +51,18 @@ def sets():
            "log 3 / log 2 = 1.585")
 
 
+def box_text(b):
+    """D_f +- its error (levels fitted), as the tables print it."""
+    if b["dimension"] is None:
+        return f"withheld: {b['flaw']}"
+    err = b["dimension_error"]
+    return f"{b['dimension']:.3f}" + (f" ± {err:.3f}" if err and err >= 5e-4 else "") + f" ({b['levels_fitted']})"
+
+
 def main():
-    print("| set | box counting D_f (levels fitted) | mass-radius f_D | expected |")
-    print("|---|---|---|---|")
+    print("| set | box counting D_f, all spheres (levels fitted) | box counting D_f, the cluster (levels) "
+          "| mass-radius f_D | expected |")
+    print("|---|---|---|---|---|")
     with tempfile.TemporaryDirectory() as d:
         for k, (label, centres, r, box, dim, expected) in enumerate(sets()):
             name = f"set{k}"
@@ -62,11 +71,12 @@ def main():
             subprocess.run([BINARY, "analyze", "--state", os.path.join(d, name + ".csv"), "--config",
                             os.path.join(d, name + ".toml"), "--out", out], check=True, stdout=subprocess.DEVNULL)
             a = json.load(open(os.path.join(out, "analysis.json")))
-            b = a["all_spheres"]["box_counting"]
-            mr = a["largest_cluster"]["mass_radius_dimension"]
-            err = b["dimension_error"]
-            box_text = f"{b['dimension']:.3f}" + (f" ± {err:.3f}" if err else "") + f" ({b['levels_fitted']})"
-            print(f"| {label} | {box_text} | {mr:.3f} | {expected} |")
+            largest = a["largest_cluster"]
+            mr = largest["mass_radius_dimension"]
+            mr_text = f"{mr:.3f}" if mr is not None else \
+                f"withheld: {largest['mass_radius_dimension_flaw']} (raw fit {largest['mass_radius_fit']['slope']:.3f})"
+            print(f"| {label} | {box_text(a['all_spheres']['box_counting'])} | {box_text(largest['box_counting'])} "
+                  f"| {mr_text} | {expected} |")
 
 
 if __name__ == "__main__":

@@ -1,5 +1,7 @@
 // Every function of src/ballagg/analysis/ on numpy arrays (docs/python.md, docs/analysis.md
 // for the definitions): positions are (n, D) arrays, D = 2 or 3.
+#include <limits>
+
 #include "analysis_convert.hpp"
 #include "bindings.hpp"
 
@@ -31,6 +33,7 @@ py::dict box_counting_dict(const BoxCounting& b) {
   d["dimension_error"] = b.dimension_error;
   d["prefactor"] = b.prefactor;
   d["prefactor_error"] = b.prefactor_error;
+  d["flaw"] = flaw_code(b.flaw);
   return d;
 }
 
@@ -41,6 +44,10 @@ py::dict pair_distribution_dict(const PairDistribution& p) {
   d["cluster"] = from_vector(p.cluster);
   d["all_fit"] = fit_object(p.all_fit);
   d["cluster_fit"] = fit_object(p.cluster_fit);
+  d["all_dimension"] = p.all_dimension;
+  d["cluster_dimension"] = p.cluster_dimension;
+  d["all_flaw"] = flaw_code(p.all_flaw);
+  d["cluster_flaw"] = flaw_code(p.cluster_flaw);
   return d;
 }
 
@@ -57,6 +64,11 @@ py::dict mass_radius_dict(const MassRadius<D>& m) {
   d["fit"] = fit_object(m.fit);
   d["dimension"] = m.dimension;
   d["dimension_error"] = m.dimension_error;
+  d["dimension_flaw"] = flaw_code(m.dimension_flaw);
+  d["richardson_dimension"] = m.richardson_dimension;
+  d["richardson_dimension_error"] = m.richardson_dimension_error;
+  d["richardson_flaw"] = flaw_code(m.richardson_flaw);
+  d["nearest_centre"] = m.nearest_centre;
   return d;
 }
 
@@ -80,12 +92,15 @@ py::dict aggregate_analysis(const Box<D>& box, const SphereTable<D>& spheres) {
       mr_err(m);
   std::vector<std::uint8_t> percolating(m);
   std::vector<Vec<D>> com(m), orientation(m);
+  py::list box_flaw, mr_flaw;
   for (std::size_t k = 0; k < m; ++k) {
     const ClusterSummary<D>& c = a.clusters[k];
     size[k] = c.size, mass[k] = c.mass, com[k] = c.centre_of_mass, aspect[k] = c.shape.aspect_ratio;
     rg[k] = c.shape.radius_of_gyration, orientation[k] = c.shape.orientation(), r_max[k] = c.r_max;
     density[k] = c.density, contacts[k] = c.contacts, box_dim[k] = c.box_dimension, box_err[k] = c.box_dimension_error;
     mr_dim[k] = c.mass_radius_dimension, mr_err[k] = c.mass_radius_dimension_error, percolating[k] = c.percolating;
+    box_flaw.append(flaw_code(c.box_dimension_flaw));
+    mr_flaw.append(flaw_code(c.mass_radius_dimension_flaw));
   }
   py::dict clusters;
   clusters["size"] = from_vector(size);
@@ -101,6 +116,8 @@ py::dict aggregate_analysis(const Box<D>& box, const SphereTable<D>& spheres) {
   clusters["box_dimension_error"] = from_vector(box_err);
   clusters["mass_radius_dimension"] = from_vector(mr_dim);
   clusters["mass_radius_dimension_error"] = from_vector(mr_err);
+  clusters["box_dimension_flaw"] = box_flaw;
+  clusters["mass_radius_dimension_flaw"] = mr_flaw;
   clusters["percolating"] = from_vector(percolating).attr("astype")("bool");
   d["clusters"] = clusters;
   std::vector<std::int64_t> bin_size, bin_count;
@@ -114,6 +131,7 @@ py::dict aggregate_analysis(const Box<D>& box, const SphereTable<D>& spheres) {
   population["r_max"] = fit_object(a.population.r_max);
   population["density"] = fit_object(a.population.density);
   population["dimension"] = a.population.dimension;
+  population["dimension_flaw"] = flaw_code(a.population.dimension_flaw);
   d["population"] = population;
   return d;
 }
@@ -220,15 +238,17 @@ void bind_analysis(py::module_& m) {
   }, py::arg("contact_sum"), py::arg("n_spheres"), py::arg("dimension"), "N_c of (4.5): contacts / (N N_max).");
 
   m.def("pair_distribution", [](const DoubleArray& positions, double mean_radius, const IntArray& cluster_ids,
-                                int cluster, double box_length, bool periodic) {
+                                int cluster, double box_length, bool periodic, double cluster_extent) {
     return by_dimension(dimension_of(positions), [&]<int D>() -> py::object {
       const std::vector<Vec<D>> x = to_points<D>(positions);
       return pair_distribution_dict(pair_distribution<D>(make_box<D>(box_length, periodic), x, mean_radius,
-                                                         partition_labels(cluster_ids, x.size()), cluster));
+                                                         partition_labels(cluster_ids, x.size()), cluster,
+                                                         cluster_extent));
     });
   }, py::arg("positions"), py::arg("mean_radius"), py::arg("cluster_ids"), py::arg("cluster"), py::arg("box_length"),
-     py::arg("periodic") = false,
-     "P(r) (4.6) of all spheres and of one cluster (its index in order of first sphere).");
+     py::arg("periodic") = false, py::arg("cluster_extent") = std::numeric_limits<double>::infinity(),
+     "P(r) (4.6) of all spheres and of one cluster (its index in order of first sphere); the cluster's fit "
+     "stops at cluster_extent (an upper bound on its diameter).");
 
   m.def("mass_radius", [](const IntArray& members, const DoubleArray& positions, const DoubleArray& radii,
                           const DoubleArray& masses, double length_unit, double radius_of_gyration) {

@@ -35,10 +35,15 @@ PopulationFits population_fits(const std::vector<ClusterSummary<D>>& clusters) {
   }
   p.clusters = static_cast<int>(sizes.size());
   std::sort(sizes.begin(), sizes.end());
+  p.dimension_flaw = FitFlaw::too_few_points;
   if (std::unique(sizes.begin(), sizes.end()) - sizes.begin() < kPopulationMinSizes) return p;
   p.r_max = fit_line(log_n, log_r);
   p.density = fit_line(log_n, log_rho);
-  if (p.density) p.dimension = D / (1.0 - p.density->slope);
+  if (!p.density) return p;
+  // gamma >= 1 (a density that does not fall with size) implies no dimension at all.
+  const double implied = D / (1.0 - p.density->slope);
+  p.dimension_flaw = dimension_range_flaw<D>(implied);
+  if (p.dimension_flaw == FitFlaw::none) p.dimension = implied;
   return p;
 }
 
@@ -62,6 +67,27 @@ WeightedMean weighted_mean(const std::vector<ClusterSummary<D>>& clusters, doubl
   m.mean = weighted / weight;
   m.spread = std::sqrt(std::max(0.0, weighted_square / weight - m.mean * m.mean));
   return m;
+}
+
+// The largest side of the box that bounds a cluster's spheres (in one piece), or the box for
+// a cluster that wraps around the periodic box, whose unwrapped extent measures nothing.
+template <int D>
+double extent_of(std::span<const std::int32_t> members, const UnwrappedClusters<D>& unwrapped,
+                 const std::vector<double>& radius, bool percolating, const Box<D>& box) {
+  if (percolating) return box.length;
+  Vec<D> low = Vec<D>::Constant(std::numeric_limits<double>::infinity()), high = -low;
+  for (int i : members) {
+    low = low.cwiseMin(unwrapped.position[i] - Vec<D>::Constant(radius[i]));
+    high = high.cwiseMax(unwrapped.position[i] + Vec<D>::Constant(radius[i]));
+  }
+  return (high - low).maxCoeff();
+}
+
+// Box counting of one cluster, fitted up to the level nearest half its extent (box_counting.hpp).
+template <int D>
+BoxCounting cluster_box_counting(const Box<D>& box, const std::vector<Vec<D>>& points, double length_unit,
+                                 double extent) {
+  return box_counting(box, points, length_unit, kBoxCountingCoarsestOfExtent * extent);
 }
 
 // Mass fractions and total kinetic energies over the clusters.
@@ -123,20 +149,29 @@ AggregateAnalysis<D> analyze_aggregates(const Box<D>& box, const SphereTable<D>&
     std::int64_t own = 0;
     for (int i : members) own += contacts.same_cluster[i];
     s.contacts = relative_contacts<D>(own, s.size);
+    s.richardson_dimension_flaw = mr.richardson_flaw;
     s.box_dimension = s.box_dimension_error = s.mass_radius_dimension = s.mass_radius_dimension_error = kNaN;
+    s.box_dimension_flaw = s.mass_radius_dimension_flaw = FitFlaw::cluster_too_small;
     if (s.size >= kFractalMinSize) {
-      const BoxCounting bc = box_counting(box, gather(members, t.position), a.length_unit);
+      const BoxCounting bc = cluster_box_counting(box, gather(members, t.position), a.length_unit,
+                                                  extent_of(members, unwrapped, t.radius, s.percolating, box));
       s.box_dimension = bc.dimension;
       s.box_dimension_error = bc.dimension_error;
+      s.box_dimension_flaw = bc.flaw;
       s.mass_radius_dimension = mr.dimension;
       s.mass_radius_dimension_error = mr.dimension_error;
+      s.mass_radius_dimension_flaw = mr.dimension_flaw;
     }
   }
   const std::span<const std::int32_t> largest = partition.members_of(a.largest);
-  a.largest_box_counting = box_counting(box, gather(largest, t.position), a.length_unit);
+  const ClusterSummary<D>& biggest = a.clusters[a.largest];
+  a.largest_box_counting = cluster_box_counting(box, gather(largest, t.position), a.length_unit,
+                                                extent_of(largest, unwrapped, t.radius, biggest.percolating, box));
   a.largest_mass_radius = mass_radius<D>(largest, unwrapped.position, t.radius, t.mass, a.length_unit,
                                          a.clusters[a.largest].shape.radius_of_gyration);
-  a.pair_distribution = pair_distribution(box, t.position, a.length_unit, partition.label, a.largest);
+  // P(r) of the cluster is flat beyond its largest pair distance, at most 2 R_max.
+  a.pair_distribution = pair_distribution(box, t.position, a.length_unit, partition.label, a.largest,
+                                          biggest.percolating ? box.length : 2.0 * biggest.r_max);
   a.population = population_fits(a.clusters);
   a.population.mass_radius_dimension = weighted_mean(a.clusters, &ClusterSummary<D>::mass_radius_dimension,
                                                      &ClusterSummary<D>::mass_radius_dimension_error);

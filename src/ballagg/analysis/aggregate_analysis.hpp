@@ -39,9 +39,12 @@ struct ClusterSummary {
   GyrationShape<D> shape;                  // A_r (4.3), D (4.4), R_g
   double r_max = 0.0, density = 0.0;       // Richardson (7), M / V(R_max)
   double contacts = 0.0;                   // N_c (4.5) over the cluster's own pairs
-  double box_dimension = 0.0, box_dimension_error = 0.0;                  // (4.7), NaN below kFractalMinSize
+  // The fractal dimensions, each NaN when withheld, with the reason (fit_flaw.hpp).
+  double box_dimension = 0.0, box_dimension_error = 0.0;                  // (4.7) on 3R..min(L/2, 2 R_max)
   double mass_radius_dimension = 0.0, mass_radius_dimension_error = 0.0;  // §3, fitted on 4R..R_g
   double richardson_dimension = 0.0, richardson_dimension_error = 0.0;    // §3, through every centre
+  FitFlaw box_dimension_flaw = FitFlaw::none, mass_radius_dimension_flaw = FitFlaw::none,
+          richardson_dimension_flaw = FitFlaw::none;
   bool percolating = false;                // wraps around the periodic box
   ClusterMotion<D> motion;                 // velocity, spin, translational and rotational energy
 };
@@ -61,7 +64,8 @@ struct PopulationFits {
   int clusters = 0;                     // clusters used
   std::optional<LinearFit> r_max;       // log R_max against log N_a
   std::optional<LinearFit> density;     // log rho against log N_a
-  double dimension = 0.0;               // D / (1 - gamma); NaN without a fit
+  double dimension = 0.0;               // D / (1 - gamma); NaN when withheld
+  FitFlaw dimension_flaw = FitFlaw::none;
   WeightedMean mass_radius_dimension;   // of the clusters' mass_radius_dimension
   WeightedMean richardson_dimension;    // of their richardson_dimension
 };

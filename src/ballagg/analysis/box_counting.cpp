@@ -23,7 +23,8 @@ std::uint64_t morton_key(const std::array<std::uint32_t, D>& c, int bits) {
 }  // namespace
 
 template <int D>
-BoxCounting box_counting(const Box<D>& box, const std::vector<Vec<D>>& points, double length_unit) {
+BoxCounting box_counting(const Box<D>& box, const std::vector<Vec<D>>& points, double length_unit,
+                         double largest_eps) {
   BoxCounting out;
   const double nan = std::numeric_limits<double>::quiet_NaN();
   out.dimension = out.dimension_error = out.prefactor = out.prefactor_error = nan;
@@ -49,7 +50,7 @@ BoxCounting box_counting(const Box<D>& box, const std::vector<Vec<D>>& points, d
     std::int64_t distinct = keys.empty() ? 0 : 1;
     for (std::size_t k = 1; k < keys.size(); ++k) distinct += (keys[k] >> drop) != (keys[k - 1] >> drop);
     const double eps = std::ldexp(l, -m);
-    const bool in_range = eps >= kBoxCountingSmallest * length_unit && eps <= 0.5 * l;
+    const bool in_range = eps >= kBoxCountingSmallest * length_unit && eps <= std::min(0.5 * l, largest_eps);
     out.level.push_back(m);
     out.eps.push_back(eps);
     out.boxes.push_back(distinct);
@@ -60,7 +61,10 @@ BoxCounting box_counting(const Box<D>& box, const std::vector<Vec<D>>& points, d
     }
   }
   out.fit = fit_line(log_eps, log_n);
-  if (out.fit) {
+  // N(eps_m) <= 2^D N(eps_(m-1)) (a cell has 2^D children), so the slope never exceeds D:
+  // the number of levels is the only thing to judge.
+  out.flaw = out.fit && out.fit->points >= kMinFitPoints ? FitFlaw::none : FitFlaw::too_few_points;
+  if (out.flaw == FitFlaw::none) {
     out.dimension = -out.fit->slope;
     out.dimension_error = out.fit->slope_error;
     out.prefactor = std::exp(out.fit->intercept);
@@ -69,7 +73,7 @@ BoxCounting box_counting(const Box<D>& box, const std::vector<Vec<D>>& points, d
   return out;
 }
 
-template BoxCounting box_counting<2>(const Box<2>&, const std::vector<Vec<2>>&, double);
-template BoxCounting box_counting<3>(const Box<3>&, const std::vector<Vec<3>>&, double);
+template BoxCounting box_counting<2>(const Box<2>&, const std::vector<Vec<2>>&, double, double);
+template BoxCounting box_counting<3>(const Box<3>&, const std::vector<Vec<3>>&, double, double);
 
 }  // namespace ballagg

@@ -20,7 +20,10 @@ namespace {
 // log r -> -infinity).
 template <int D>
 void richardson_fit(const std::vector<double>& r, double length_unit, MassRadius<D>& out) {
-  if (static_cast<int>(r.size()) < kRichardsonMinSize) return;
+  if (static_cast<int>(r.size()) < kRichardsonMinSize) {
+    out.richardson_flaw = FitFlaw::cluster_too_small;
+    return;
+  }
   std::vector<double> log_r, log_n;
   for (auto k = r.begin(); k != r.end(); ++k) {
     if (*k < length_unit) continue;
@@ -28,10 +31,24 @@ void richardson_fit(const std::vector<double>& r, double length_unit, MassRadius
     log_r.push_back(std::log(*k));
     log_n.push_back(std::log(static_cast<double>(n)));
   }
-  if (const std::optional<LinearFit> f = fit_line(log_r, log_n)) {
-    out.richardson_dimension = f->slope;
-    out.richardson_dimension_error = f->slope_error;
+  const std::optional<LinearFit> f = fit_line(log_r, log_n);
+  if (!f || f->points < kMinFitPoints) {
+    out.richardson_flaw = FitFlaw::too_few_points;
+    return;
   }
+  out.richardson_flaw = dimension_range_flaw<D>(f->slope);
+  if (out.richardson_flaw != FitFlaw::none) return;
+  out.richardson_dimension = f->slope;
+  out.richardson_dimension_error = f->slope_error;
+}
+
+// The windowed fit's flaw: a hole at the centre first (its slope is then meaningless
+// whatever its value), then the number of radii, then the range.
+template <int D>
+FitFlaw windowed_flaw(const MassRadius<D>& m, double inner) {
+  if (m.nearest_centre > inner) return FitFlaw::hole_at_centre;
+  if (!m.fit || m.fit->points < kMinFitPoints) return FitFlaw::too_few_points;
+  return dimension_range_flaw<D>(m.fit->slope);
 }
 
 }  // namespace
@@ -57,6 +74,7 @@ MassRadius<D> mass_radius(std::span<const std::int32_t> members, const std::vect
   }
   out.density = out.mass / ball_volume<D>(out.r_max);
   std::sort(r.begin(), r.end());
+  out.nearest_centre = r.empty() ? 0.0 : r.front();
 
   // The table: from the first radius of the fitted range (or the aggregate's edge if that
   // is closer) down by whole ratios to below one radius, and up to R_max.
@@ -77,12 +95,11 @@ MassRadius<D> mass_radius(std::span<const std::int32_t> members, const std::vect
     }
   }
   richardson_fit(r, length_unit, out);
-  if (static_cast<int>(log_r.size()) >= kMassRadiusMinPoints) {
-    out.fit = fit_line(log_r, log_n);
-    if (out.fit) {
-      out.dimension = out.fit->slope;
-      out.dimension_error = out.fit->slope_error;
-    }
+  out.fit = fit_line(log_r, log_n);
+  out.dimension_flaw = windowed_flaw(out, inner);
+  if (out.dimension_flaw == FitFlaw::none) {
+    out.dimension = out.fit->slope;
+    out.dimension_error = out.fit->slope_error;
   }
   return out;
 }

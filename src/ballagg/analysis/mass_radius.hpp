@@ -18,10 +18,18 @@
 // of his runs, whose centre of mass often lies in a hole several radii wide (the windowed
 // fit then starts on the steep rise after the hole and gives 3 or more in 3D); it is
 // pulled down by the saturation at the edge. Both are reported.
+//
+// A fit is withheld (NaN, with its FitFlaw, fit_flaw.hpp) when it cannot mean what it says:
+// the windowed fit when no centre lies within kMassRadiusInner R of the centre of mass (its
+// window then starts on the far edge of a hole), or when it has fewer than kMinFitPoints
+// radii; either fit when its slope is outside (0, D + kDimensionExcess]. Richardson's fit
+// is kept through a hole, which is what it is for; a hole wide enough to push it above D
+// is caught by the range.
 #include <optional>
 #include <span>
 #include <vector>
 
+#include "ballagg/analysis/fit_flaw.hpp"
 #include "ballagg/analysis/linear_fit.hpp"
 #include "ballagg/core/vec.hpp"
 
@@ -29,7 +37,6 @@ namespace ballagg {
 
 inline constexpr double kMassRadiusInner = 4.0;                // smallest fitted r, in units of R
 inline constexpr double kMassRadiusRatio = 1.189207115002721;  // 2^(1/4): four radii per octave
-inline constexpr int kMassRadiusMinPoints = 3;                 // fewer fitted radii: no f_D
 inline constexpr int kRichardsonMinSize = 4;                   // fewer spheres: no Richardson f_D
 
 template <int D>
@@ -41,10 +48,13 @@ struct MassRadius {
   std::vector<double> radius;                // the table's radii r
   std::vector<std::int64_t> enclosed;        // n(r)
   std::vector<char> fitted;                  // r within the fitted range
-  std::optional<LinearFit> fit;              // log n against log r: slope = f_D
-  double dimension = 0.0, dimension_error = 0.0;  // NaN without a fit
-  // Richardson's fit through every centre; NaN below kRichardsonMinSize spheres.
+  double nearest_centre = 0.0;               // distance of the nearest centre from the centre of mass
+  std::optional<LinearFit> fit;              // log n against log r: slope = f_D (kept when withheld)
+  double dimension = 0.0, dimension_error = 0.0;  // NaN when withheld
+  FitFlaw dimension_flaw = FitFlaw::none;
+  // Richardson's fit through every centre; NaN when withheld (below kRichardsonMinSize spheres).
   double richardson_dimension = 0.0, richardson_dimension_error = 0.0;
+  FitFlaw richardson_flaw = FitFlaw::none;
 };
 
 // One aggregate: its centres (in one piece, see cluster_unwrapping.hpp), radii and masses

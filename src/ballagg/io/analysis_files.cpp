@@ -32,6 +32,15 @@ Json fit_json(const std::optional<LinearFit>& f) {
               {"points", f->points}};
 }
 
+// Every flaw's code with its sentence, so that analysis.json explains its own codes.
+Json flaw_definitions() {
+  Json d = Json::object();
+  for (FitFlaw f : {FitFlaw::none, FitFlaw::cluster_too_small, FitFlaw::too_few_points, FitFlaw::hole_at_centre,
+                    FitFlaw::outside_dimension_range})
+    d[flaw_code(f)] = flaw_explanation(f);
+  return d;
+}
+
 Json weighted_mean_json(const WeightedMean& m) {
   return Json{{"mean", number(m.mean)}, {"spread", number(m.spread)}, {"clusters", m.clusters}};
 }
@@ -43,7 +52,8 @@ Json box_counting_json(const BoxCounting& b) {
               {"dimension_error", number(b.dimension_error)},
               {"prefactor", number(b.prefactor)},
               {"prefactor_error", number(b.prefactor_error)},
-              {"levels_fitted", fitted}};
+              {"levels_fitted", fitted},
+              {"flaw", flaw_code(b.flaw)}};
 }
 
 template <int D>
@@ -63,10 +73,13 @@ Json cluster_json(const ClusterSummary<D>& c) {
               {"contacts_with_self", number(relative_contacts_with_self<D>(c.contacts))},
               {"box_counting_dimension", number(c.box_dimension)},
               {"box_counting_dimension_error", number(c.box_dimension_error)},
+              {"box_counting_dimension_flaw", flaw_code(c.box_dimension_flaw)},
               {"mass_radius_dimension", number(c.mass_radius_dimension)},
               {"mass_radius_dimension_error", number(c.mass_radius_dimension_error)},
+              {"mass_radius_dimension_flaw", flaw_code(c.mass_radius_dimension_flaw)},
               {"richardson_dimension", number(c.richardson_dimension)},
               {"richardson_dimension_error", number(c.richardson_dimension_error)},
+              {"richardson_dimension_flaw", flaw_code(c.richardson_dimension_flaw)},
               {"percolating", c.percolating},
               {"velocity", vector_json<D>(c.motion.velocity)},
               {"angular_velocity", vector_json<kSpinDim<D>>(c.motion.angular_velocity)},
@@ -87,8 +100,9 @@ std::string clusters_csv(const AggregateAnalysis<D>& a) {
   put(",radius_of_gyration,r_max,density,aspect_ratio");
   for (int k = 0; k < D; ++k) put(",lambda_", k + 1);
   for (int k = 0; k < D; ++k) put(",orientation_", axes[k]);
-  put(",contacts,box_counting_dimension,box_counting_dimension_error,mass_radius_dimension,"
-      "mass_radius_dimension_error,richardson_dimension,richardson_dimension_error,percolating");
+  put(",contacts,box_counting_dimension,box_counting_dimension_error,box_counting_dimension_flaw,"
+      "mass_radius_dimension,mass_radius_dimension_error,mass_radius_dimension_flaw,richardson_dimension,"
+      "richardson_dimension_error,richardson_dimension_flaw,percolating");
   for (int k = 0; k < D; ++k) put(",velocity_", axes[k]);
   for (int k = 3 - kSpinDim<D>; k < 3; ++k) put(",omega_", axes[k]);  // 2D: omega_z only
   put(",spin,translational_energy,rotational_energy\n");
@@ -100,8 +114,9 @@ std::string clusters_csv(const AggregateAnalysis<D>& a) {
     for (int k = 0; k < D; ++k) put(",", num(s.shape.eigenvalues[k]));
     for (int k = 0; k < D; ++k) put(",", num(s.shape.orientation()[k]));
     put(",", num(s.contacts), ",", num(s.box_dimension), ",", num(s.box_dimension_error), ",",
-        num(s.mass_radius_dimension), ",", num(s.mass_radius_dimension_error), ",", num(s.richardson_dimension), ",",
-        num(s.richardson_dimension_error), ",", s.percolating ? 1 : 0);
+        flaw_code(s.box_dimension_flaw), ",", num(s.mass_radius_dimension), ",", num(s.mass_radius_dimension_error),
+        ",", flaw_code(s.mass_radius_dimension_flaw), ",", num(s.richardson_dimension), ",",
+        num(s.richardson_dimension_error), ",", flaw_code(s.richardson_dimension_flaw), ",", s.percolating ? 1 : 0);
     for (int k = 0; k < D; ++k) put(",", num(s.motion.velocity[k]));
     for (int k = 0; k < kSpinDim<D>; ++k) put(",", num(s.motion.angular_velocity[k]));
     put(",", num(s.motion.spin()), ",", num(s.motion.translational_energy), ",", num(s.motion.rotational_energy), "\n");
@@ -166,18 +181,23 @@ std::map<std::string, std::string> analysis_files(const AggregateAnalysis<D>& a,
                           {"box_counting_eps_range", {fmt::format("{} R", kBoxCountingSmallest), "L/2"}},
                           {"mass_radius_r_range", {fmt::format("{} R", kMassRadiusInner), "R_g"}},
                           {"fractal_min_size", kFractalMinSize},
-                          {"richardson_min_size", kRichardsonMinSize}};
+                          {"richardson_min_size", kRichardsonMinSize},
+                          {"fit_min_points", kMinFitPoints},
+                          {"dimension_excess", kDimensionExcess},
+                          {"fit_flaws", flaw_definitions()}};
   j["all_spheres"] = Json{{"contacts", number(a.contacts)},
                           {"contacts_with_self", number(relative_contacts_with_self<D>(a.contacts))},
                           {"box_counting", box_counting_json(a.box_counting)},
-                          {"correlation_dimension", a.pair_distribution.all_fit ? number(a.pair_distribution.all_fit->slope) : Json(nullptr)},
+                          {"correlation_dimension", number(a.pair_distribution.all_dimension)},
+                          {"correlation_dimension_flaw", flaw_code(a.pair_distribution.all_flaw)},
                           {"correlation_fit", fit_json(a.pair_distribution.all_fit)}};
   Json largest = cluster_json(a.clusters[a.largest]);
   largest["cluster"] = a.largest;
   largest["box_counting"] = box_counting_json(a.largest_box_counting);
   largest["mass_radius_fit"] = fit_json(a.largest_mass_radius.fit);
-  largest["correlation_dimension"] =
-      a.pair_distribution.cluster_fit ? number(a.pair_distribution.cluster_fit->slope) : Json(nullptr);
+  largest["correlation_dimension"] = number(a.pair_distribution.cluster_dimension);
+  largest["correlation_dimension_flaw"] = flaw_code(a.pair_distribution.cluster_flaw);
+  largest["nearest_centre_to_centre_of_mass"] = number(a.largest_mass_radius.nearest_centre);
   largest["correlation_fit"] = fit_json(a.pair_distribution.cluster_fit);
   j["largest_cluster"] = largest;
   j["population"] = Json{{"clusters_used", a.population.clusters},
@@ -185,6 +205,7 @@ std::map<std::string, std::string> analysis_files(const AggregateAnalysis<D>& a,
                          {"r_max_vs_size", fit_json(a.population.r_max)},
                          {"density_vs_size", fit_json(a.population.density)},
                          {"dimension_from_density", number(a.population.dimension)},
+                         {"dimension_from_density_flaw", flaw_code(a.population.dimension_flaw)},
                          {"mean_mass_radius_dimension", weighted_mean_json(a.population.mass_radius_dimension)},
                          {"mean_richardson_dimension", weighted_mean_json(a.population.richardson_dimension)}};
   j["files"] = {"clusters.csv", "mass_spectrum.csv", "box_counting.csv", "pair_distribution.csv", "mass_radius.csv"};

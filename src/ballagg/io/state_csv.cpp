@@ -1,36 +1,17 @@
 #include "ballagg/io/state_csv.hpp"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <map>
-#include <sstream>
-#include <string_view>
 
 #include <fmt/format.h>
 
 #include "ballagg/config/text_file.hpp"
 #include "ballagg/core/input_error.hpp"
+#include "ballagg/io/csv_reader.hpp"
 
 namespace ballagg {
 namespace {
-
-std::string_view trim(std::string_view s) {
-  while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
-  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
-  return s;
-}
-
-std::vector<std::string_view> split(std::string_view line) {
-  std::vector<std::string_view> out;
-  std::size_t start = 0;
-  while (true) {
-    const std::size_t comma = line.find(',', start);
-    out.push_back(trim(line.substr(start, comma - start)));
-    if (comma == std::string_view::npos) return out;
-    start = comma + 1;
-  }
-}
 
 template <int D>
 std::vector<std::string> column_names() {
@@ -45,60 +26,54 @@ std::vector<std::string> spin_names() {
   else return {"wx", "wy", "wz"};
 }
 
+// The header's columns: each known, none twice, all required ones present, the spin
+// columns all or none. Returns name -> field index.
+template <int D>
+std::map<std::string, int> state_columns(const CsvReader& csv, const std::string& expected) {
+  const std::vector<std::string> required = column_names<D>();
+  const std::vector<std::string> spin = spin_names<D>();
+  std::map<std::string, int> column;
+  const int line_no = csv.header_line();
+  for (std::size_t k = 0; k < csv.columns().size(); ++k) {
+    const std::string& name = csv.columns()[k];
+    const bool known = name == "cluster" || std::find(required.begin(), required.end(), name) != required.end() ||
+                       std::find(spin.begin(), spin.end(), name) != spin.end();
+    if (!known) {
+      const bool other_dim = name == "z" || name == "vz";
+      throw InputError(fmt::format("{}:{}: unknown column '{}'{} (expected {})", csv.source(), line_no, name,
+                                   other_dim ? " in a 2D run (system.dimension = 2)" : "", expected));
+    }
+    if (!column.emplace(name, static_cast<int>(k)).second)
+      throw InputError(fmt::format("{}:{}: column '{}' appears twice", csv.source(), line_no, name));
+  }
+  for (const std::string& name : required)
+    if (!column.count(name))
+      throw InputError(fmt::format("{}:{}: missing column '{}' (expected {})", csv.source(), line_no, name, expected));
+  const auto spins = std::count_if(spin.begin(), spin.end(), [&](const std::string& n) { return column.count(n) > 0; });
+  if (spins != 0 && spins != static_cast<long>(spin.size()))
+    throw InputError(
+        fmt::format("{}:{}: give all the spin columns {} or none", csv.source(), line_no, fmt::join(spin, ",")));
+  return column;
+}
+
 }  // namespace
 
 template <int D>
 SphereTable<D> parse_state_csv(const std::string& text, const std::string& source) {
-  const std::vector<std::string> required = column_names<D>();
   const std::vector<std::string> spin = spin_names<D>();
-  const std::string expected = fmt::format("{},cluster,{} (cluster and spin optional)", fmt::join(required, ","),
-                                           fmt::join(spin, ","));
+  const std::string expected = fmt::format("{},cluster,{} (cluster and spin optional)",
+                                           fmt::join(column_names<D>(), ","), fmt::join(spin, ","));
+  CsvReader csv(text, source, expected);
+  const std::map<std::string, int> column = state_columns<D>(csv, expected);
   SphereTable<D> table;
   table.source = source;
-  std::map<std::string, int> column;  // name -> field index
-  std::size_t n_fields = 0;
-  bool header_seen = false;
-  int header_line = 0;
-  std::istringstream in(text);
-  std::string raw;
-  for (int line_no = 1; std::getline(in, raw); ++line_no) {
-    const std::string_view line = trim(raw);
-    if (line.empty() || line.front() == '#') continue;
-    const std::vector<std::string_view> fields = split(line);
-    if (!header_seen) {
-      header_seen = true;
-      header_line = line_no;
-      n_fields = fields.size();
-      for (std::size_t k = 0; k < fields.size(); ++k) {
-        const std::string name(fields[k]);
-        const bool known = name == "cluster" || std::find(required.begin(), required.end(), name) != required.end() ||
-                           std::find(spin.begin(), spin.end(), name) != spin.end();
-        if (!known) {
-          const bool other_dim = name == "z" || name == "vz";
-          throw InputError(fmt::format("{}:{}: unknown column '{}'{} (expected {})", source, line_no, name,
-                                       other_dim ? " in a 2D run (system.dimension = 2)" : "", expected));
-        }
-        if (!column.emplace(name, static_cast<int>(k)).second)
-          throw InputError(fmt::format("{}:{}: column '{}' appears twice", source, line_no, name));
-      }
-      for (const std::string& name : required)
-        if (!column.count(name))
-          throw InputError(fmt::format("{}:{}: missing column '{}' (expected {})", source, line_no, name, expected));
-      const auto spins = std::count_if(spin.begin(), spin.end(), [&](const std::string& n) { return column.count(n) > 0; });
-      if (spins != 0 && spins != static_cast<long>(spin.size()))
-        throw InputError(fmt::format("{}:{}: give all the spin columns {} or none", source, line_no, fmt::join(spin, ",")));
-      continue;
-    }
-    if (fields.size() != n_fields)
-      throw InputError(fmt::format("{}:{}: {} fields, but the header has {}", source, line_no, fields.size(), n_fields));
+  CsvRow row;
+  while (csv.next(row)) {
     auto number = [&](const std::string& name) {
-      const std::string_view f = fields[column.at(name)];
-      double v = 0.0;
-      const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), v);
-      if (ec != std::errc() || end != f.data() + f.size() || f.empty())
-        throw InputError(fmt::format("{}:{}: column {}: '{}' is not a number", source, line_no, name, f));
+      const double v = csv.number(row, column.at(name));
       if (!std::isfinite(v))
-        throw InputError(fmt::format("{}:{}: column {}: {} is not finite", source, line_no, name, f));
+        throw InputError(fmt::format("{}:{}: column {}: {} is not finite", source, row.line, name,
+                                     row.fields[column.at(name)]));
       return v;
     };
     Vec<D> x, v;
@@ -108,16 +83,9 @@ SphereTable<D> parse_state_csv(const std::string& text, const std::string& sourc
       v[a] = number(std::string("v") + axes[a]);
     }
     const double radius = number("radius"), mass = number("mass");
-    if (radius <= 0.0) throw InputError(fmt::format("{}:{}: radius {} must be > 0", source, line_no, radius));
-    if (mass <= 0.0) throw InputError(fmt::format("{}:{}: mass {} must be > 0", source, line_no, mass));
-    if (column.count("cluster")) {
-      const std::string_view f = fields[column.at("cluster")];
-      std::int64_t id = 0;
-      const auto [end, ec] = std::from_chars(f.data(), f.data() + f.size(), id);
-      if (ec != std::errc() || end != f.data() + f.size() || f.empty())
-        throw InputError(fmt::format("{}:{}: column cluster: '{}' is not an integer", source, line_no, f));
-      table.cluster.push_back(id);
-    }
+    if (radius <= 0.0) throw InputError(fmt::format("{}:{}: radius {} must be > 0", source, row.line, radius));
+    if (mass <= 0.0) throw InputError(fmt::format("{}:{}: mass {} must be > 0", source, row.line, mass));
+    if (column.count("cluster")) table.cluster.push_back(csv.integer(row, column.at("cluster")));
     if (column.count(spin.front())) {
       Spin<D> w;
       for (int a = 0; a < kSpinDim<D>; ++a) w[a] = number(spin[a]);
@@ -127,11 +95,11 @@ SphereTable<D> parse_state_csv(const std::string& text, const std::string& sourc
     table.velocity.push_back(v);
     table.radius.push_back(radius);
     table.mass.push_back(mass);
-    table.line.push_back(line_no);
+    table.line.push_back(row.line);
   }
-  if (!header_seen) throw InputError(fmt::format("{}: empty file (expected a header line {})", source, expected));
   if (table.radius.empty())
-    throw InputError(fmt::format("{}:{}: no spheres after the header (one line per sphere expected)", source, header_line));
+    throw InputError(
+        fmt::format("{}:{}: no spheres after the header (one line per sphere expected)", source, csv.header_line()));
   return table;
 }
 

@@ -17,6 +17,7 @@
 #include "ballagg/core/disjoint_sets.hpp"
 #include "ballagg/core/parallel.hpp"
 #include "ballagg/core/spin.hpp"
+#include "ballagg/io/csv_reader.hpp"
 #include "ballagg/io/state_csv.hpp"
 #include "ballagg/run/run_directory.hpp"
 #include "ballagg/run/verify_trajectory.hpp"
@@ -305,20 +306,14 @@ void verify_timeseries(const RunDirectory& run, const Summary& summary, Checker&
     c.note("no timeseries.csv");
     return;
   }
-  std::istringstream in(read_text_file(run.path("timeseries.csv"), "time series", kMaxStateFileBytes));
-  std::string header, line, last;
-  std::getline(in, header);
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
-  std::vector<std::string> names, values;
-  for (auto* v : {&names, &values}) {
-    std::istringstream s(v == &names ? header : last);
-    for (std::string f; std::getline(s, f, ',');) v->push_back(f);
-  }
+  const std::string text = read_text_file(run.path("timeseries.csv"), "time series", kMaxStateFileBytes);
+  CsvReader csv(text, run.path("timeseries.csv"), "(time,clusters,...)");
+  CsvRow row, last;
+  while (csv.next(row)) last = row;
   auto value = [&](const std::string& name) -> std::optional<double> {
-    for (std::size_t k = 0; k < names.size() && k < values.size(); ++k)
-      if (names[k] == name) return std::strtod(values[k].c_str(), nullptr);
-    return std::nullopt;
+    const int k = csv.column(name);
+    if (k < 0 || last.line == 0) return std::nullopt;
+    return csv.number(last, k);
   };
   for (auto [column, key] : {std::pair{"time", "time"}, {"clusters", "n_clusters"}, {"largest_cluster", "largest_cluster"},
                              {"events", "events"}}) {

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ballagg/config/text_file.hpp"
+#include "ballagg/io/csv_reader.hpp"
 #include "ballagg/io/output_dir.hpp"
 
 namespace ballagg {
@@ -89,13 +90,6 @@ struct NumericTable {
   }
 };
 
-std::vector<std::string> split_commas(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream in(line);
-  for (std::string field; std::getline(in, field, ',');) out.push_back(field);
-  return out;
-}
-
 // A run's files are read only when they are regular files: anything else (a FIFO, a
 // device) would never end; such a file counts as missing.
 bool readable_file(const fs::path& path) {
@@ -103,18 +97,19 @@ bool readable_file(const fs::path& path) {
   return fs::is_regular_file(path, ec);
 }
 
+// A run's analysis table, read strictly (io/csv_reader.hpp): a field that is not a number
+// is an error naming the file and line, never a 0 in the sweep's tables.
 std::optional<NumericTable> read_numeric_csv(const fs::path& path) {
   if (!readable_file(path)) return std::nullopt;
-  std::ifstream in(path);
-  if (!in) return std::nullopt;
+  const std::string text = read_text_file(path.string(), "analysis table", kMaxStateFileBytes);
+  CsvReader csv(text, path.string(), "(a header line of column names)");
   NumericTable t;
-  std::string line;
-  if (!std::getline(in, line)) return std::nullopt;
-  t.columns = split_commas(line);
-  while (std::getline(in, line)) {
-    std::vector<double> row;
-    for (const std::string& f : split_commas(line)) row.push_back(f == "nan" ? kNaN : std::strtod(f.c_str(), nullptr));
-    t.rows.push_back(std::move(row));
+  t.columns = csv.columns();
+  CsvRow row;
+  while (csv.next(row)) {
+    std::vector<double> values;
+    for (int k = 0; k < static_cast<int>(row.fields.size()); ++k) values.push_back(csv.number(row, k));
+    t.rows.push_back(std::move(values));
   }
   return t;
 }
