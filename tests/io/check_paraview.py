@@ -32,7 +32,7 @@ import tempfile
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-VIEW_RUN_DIR = os.path.abspath(os.path.join(HERE, "..", "examples", "paraview"))
+VIEW_RUN_DIR = os.path.abspath(os.path.join(HERE, "..", "..", "examples", "paraview"))
 WIDTH = 400
 OK = "check_paraview: inside pvpython: ok"
 

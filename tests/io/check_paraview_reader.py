@@ -32,7 +32,7 @@ import tempfile
 import h5py
 import numpy as np
 
-READER_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples", "paraview")
+READER_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "examples", "paraview")
 
 
 class _NoParaView(importlib.abc.MetaPathFinder):
