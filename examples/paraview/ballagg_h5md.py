@@ -2,7 +2,7 @@
 
 The reading is plain h5py and numpy (Debian: python3-h5py, python3-numpy) and needs no
 ParaView: `read_times`, `frame_index` and `read_frame` turn a file into numpy arrays, and
-tests/check_paraview_reader.py tests them with /usr/bin/python3. Only `fill_polydata`
+tests/io/check_paraview_reader.py tests them with /usr/bin/python3. Only `fill_polydata`
 needs VTK (it imports vtkmodules when called): it is what the programmable source of
 view_run.py calls, inside ParaView, to turn a frame into points.
 

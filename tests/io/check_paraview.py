@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Runs examples/paraview/view_run.py in ParaView (pvpython on an Xvfb display), as a user would.
 
-    /usr/bin/python3 tests/check_paraview.py BALLAGG_BINARY
+    /usr/bin/python3 tests/io/check_paraview.py BALLAGG_BINARY
 
 Skipped (exit status 77) when pvpython (Debian: paraview, python3-paraview) or Xvfb (xvfb)
 is not installed: they are optional (docs/dependencies.md). Debian's pvpython renders
@@ -32,7 +32,7 @@ import tempfile
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-VIEW_RUN_DIR = os.path.abspath(os.path.join(HERE, "..", "examples", "paraview"))
+VIEW_RUN_DIR = os.path.abspath(os.path.join(HERE, "..", "..", "examples", "paraview"))
 WIDTH = 400
 OK = "check_paraview: inside pvpython: ok"
 

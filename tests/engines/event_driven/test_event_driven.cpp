@@ -1,5 +1,6 @@
 // The event-driven engines against analytic answers and conservation laws. Every test body
-// runs on both the fast engine (`ed`) and the paper's O(N^2) reference (`ed-naive`).
+// runs on both the fast engine (`ed`) and the paper's O(N^2) reference (`ed-naive`). The
+// analytic wall and contact times that every engine meets: tests/engines/test_engine_physics.cpp.
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -36,20 +37,6 @@ StopCriteria until(double t) {
   return s;
 }
 
-TEST_P(EventDriven, SingleSphereReflectsAtAnalyticWallTimes) {
-  State<2> s = make_state<2>(10, Boundary::walls, {{vec<2>(2, 5), vec<2>(1, 0)}});
-  Recorder<2> rec;
-  const RunResult r = run_engine(s, engine(), {}, until(20), &rec);
-  const auto walls = rec.of_kind(EventKind::wall);
-  ASSERT_EQ(walls.size(), 2u);
-  EXPECT_DOUBLE_EQ(walls[0].time, 7.5);   // reaches x = 9.5
-  EXPECT_DOUBLE_EQ(walls[1].time, 16.5);  // back to x = 0.5
-  EXPECT_EQ(r.reason, StopReason::time);
-  EXPECT_DOUBLE_EQ(s.time, 20.0);
-  EXPECT_NEAR(s.position(0, s.time)[0], 4.0, 1e-12);
-  EXPECT_EQ(s.velocity(0), vec<2>(1, 0));
-}
-
 TEST_P(EventDriven, GluedClusterReflectsWhenItsOuterSphereTouchesTheWall) {
   // A 2-sphere cluster moving up: the upper sphere (y = 7, radius 0.5) reaches y = 9.5 at
   // t = 2.5 / 0.5 = 5 and the whole cluster turns back.
@@ -64,19 +51,6 @@ TEST_P(EventDriven, GluedClusterReflectsWhenItsOuterSphereTouchesTheWall) {
   EXPECT_EQ(s.velocity(0), vec<2>(0, -0.5));
   EXPECT_EQ(s.velocity(1), vec<2>(0, -0.5));
   EXPECT_NEAR(s.position(1, s.time)[1], 9.0, 1e-12);
-}
-
-TEST_P(EventDriven, HeadOnPairSticksAtAnalyticTimeWithTheMeanVelocity) {
-  State<3> s = make_state<3>(20, Boundary::walls,
-                             {{vec<3>(5, 10, 10), vec<3>(1, 0.2, 0), 0.5, 1.0}, {vec<3>(15, 10, 10), vec<3>(-1, 0.2, 0), 0.5, 3.0}});
-  Recorder<3> rec;
-  const RunResult r = run_engine(s, engine(), {}, {}, &rec);
-  ASSERT_EQ(r.reason, StopReason::clusters);
-  const auto hits = rec.of_kind(EventKind::collision);
-  ASSERT_EQ(hits.size(), 1u);
-  EXPECT_DOUBLE_EQ(hits[0].time, 4.5);
-  EXPECT_NEAR((s.velocity(0) - vec<3>(-0.5, 0.2, 0)).norm(), 0.0, 1e-15);
-  EXPECT_NEAR(worst_overlap(s), 0.0, 1e-14);  // touching, not overlapping
 }
 
 TEST_P(EventDriven, BounceReversesTheApproachTimesRestitution) {

@@ -377,7 +377,7 @@ TEST_P(TimeStepping, SameSeedGivesByteIdenticalStates) {
 }
 
 // Independence of the thread count, for every model in 2D and 3D at sizes whose loops run
-// on threads: tests/test_thread_count.cpp.
+// on threads: tests/run/test_thread_count.cpp.
 
 TEST(TimeSteppingFiles, FinalStateCanBeFedBackAsTheInitialState) {
   // Clusters left by time stepping overlap internally by up to eps_c, and may touch the

@@ -1,0 +1,127 @@
+// The rigid-body engine's configuration keys: every key read, every bad value or bad
+// combination rejected with the key named (its whole runs: tests/run/test_rigid_body_run.cpp).
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "ballagg/config/config.hpp"
+#include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
+#include "ballagg/io/state_csv.hpp"
+#include "ballagg/run/analyze_run.hpp"
+#include "support.hpp"
+
+namespace ballagg {
+namespace {
+
+using testing::TempDir;
+
+std::string error_of(const std::string& text, const std::vector<std::string>& overrides = {}) {
+  try {
+    parse_config_text(text, "run.toml", overrides);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected InputError for:\n" << text;
+  return {};
+}
+
+constexpr const char* kRigid = "[engine]\nkind = \"rigid-body\"\n";
+
+TEST(RigidBodyConfig, EveryKeyIsRead) {
+  const Config c = parse_config_text(std::string(kRigid) + R"(
+[system]
+dimension = 3
+[initial]
+velocities = "fixed-speed"
+[collision]
+outcome = "energy-threshold"
+coagulation = "aggregate"
+restitution_law = "bridges"
+velocity_unit = 0.01
+mu_t = 0.2
+mu_p = -0.1
+energy_threshold = 3.5
+fragmentation_energy = 40
+[stop]
+aggregated_fraction = 0.99
+)", "every.toml");
+  EXPECT_EQ(c.engine.kind, EngineKind::rigid_body);
+  EXPECT_EQ(c.collision.outcome, CollisionOutcome::energy_threshold);
+  EXPECT_EQ(c.collision.coagulation, Coagulation::aggregate);
+  EXPECT_EQ(c.collision.restitution_law, RestitutionLaw::bridges);
+  EXPECT_EQ(c.collision.velocity_unit, 0.01);
+  EXPECT_EQ(c.collision.mu_t, 0.2);
+  EXPECT_EQ(c.collision.mu_p, -0.1);
+  EXPECT_EQ(c.collision.energy_threshold, 3.5);
+  EXPECT_EQ(c.collision.fragmentation_energy, 40.0);
+  EXPECT_EQ(c.stop.aggregated_fraction, 0.99);
+  const Config sphere = parse_config_text(std::string(kRigid) +
+                                              "[collision]\ncoagulation = \"sphere\"\nmerged_radius = \"fixed\"\n"
+                                              "constant_speed = true\n",
+                                          "t");
+  EXPECT_EQ(sphere.collision.coagulation, Coagulation::sphere);
+  EXPECT_EQ(sphere.collision.merged_radius, MergedRadius::fixed);
+  EXPECT_TRUE(sphere.collision.constant_speed);
+}
+
+TEST(RigidBodyConfig, ResolvedConfigReadsBackToTheSameKeys) {
+  const Config c = parse_config_text(std::string(kRigid) +
+                                         "[system]\ndimension = 3\n[collision]\noutcome = \"energy-threshold\"\n"
+                                         "restitution_law = \"bridges\"\nvelocity_unit = 0.5\nmu_t = 0.1\n"
+                                         "energy_threshold = 2\n[stop]\naggregated_fraction = 0.5\n",
+                                     "t");
+  const std::string text = to_toml_text(c);
+  EXPECT_CONTAINS(text, "kind = \"rigid-body\"");
+  EXPECT_CONTAINS(text, "coagulation = \"aggregate\"");
+  EXPECT_EQ(text.find("restitution = "), std::string::npos);  // the Bridges law replaces it
+  const Config again = parse_config_text(text, "resolved.toml");
+  EXPECT_EQ(to_toml_text(again), text);
+  EXPECT_EQ(again.collision.velocity_unit, 0.5);
+  EXPECT_EQ(again.stop.aggregated_fraction, 0.5);
+}
+
+TEST(RigidBodyConfig, EdConfigTextIsUnchangedByTheRigidBodyKeys) {
+  const std::string text = to_toml_text(parse_config_text("", "t"));
+  EXPECT_EQ(text.find("coagulation"), std::string::npos);
+  EXPECT_EQ(text.find("mu_t"), std::string::npos);
+}
+
+TEST(RigidBodyConfig, BadValuesNameTheKeyAndWhatIsAllowed) {
+  const std::string r = kRigid;
+  EXPECT_CONTAINS(error_of(r + "[collision]\noutcome = \"glue\"\n"), "run.toml:4: collision.outcome = \"glue\": must be one of \"stick\", \"bounce\", \"energy-threshold\"");
+  EXPECT_CONTAINS(error_of(r + "[collision]\ncoagulation = \"blob\"\n"), "collision.coagulation = \"blob\": must be one of \"aggregate\", \"sphere\"");
+  EXPECT_CONTAINS(error_of(r + "[collision]\ncoagulation = \"sphere\"\nmerged_radius = \"big\"\n"), "collision.merged_radius");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nrestitution_law = \"ice\"\n"), "collision.restitution_law");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nrestitution_law = \"bridges\"\nvelocity_unit = 0\n"), "collision.velocity_unit = 0: must be a number > 0");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nmu_t = -0.1\n"), "collision.mu_t = -0.1: must be a number in [0, 10]");
+  EXPECT_CONTAINS(error_of(r + "[system]\ndimension = 3\n[collision]\nmu_p = 11\n"), "collision.mu_p = 11");
+  EXPECT_CONTAINS(error_of(r + "[collision]\noutcome = \"energy-threshold\"\nenergy_threshold = -1\n"), "collision.energy_threshold = -1: must be a number > 0");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nfragmentation_energy = nan\n"), "collision.fragmentation_energy");
+  EXPECT_CONTAINS(error_of(r + "[stop]\naggregated_fraction = 1.5\n"), "stop.aggregated_fraction = 1.5: must be a number in (0, 1]");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nconstant_speed = 1\n"), "collision.constant_speed = 1: must be true or false");
+  EXPECT_CONTAINS(error_of(r, {"collision.mu_t=x"}), "--set collision.mu_t");
+}
+
+TEST(RigidBodyConfig, ImpossibleCombinationsAreRejected) {
+  const std::string r = kRigid;
+  EXPECT_CONTAINS(error_of("[collision]\nmu_t = 0.1\n"), "collision.mu_t is a key of the rigid-body engine: it needs engine.kind = \"rigid-body\"");
+  EXPECT_CONTAINS(error_of("[collision]\noutcome = \"energy-threshold\"\n"), "needs engine.kind = \"rigid-body\"");
+  EXPECT_CONTAINS(error_of("[stop]\naggregated_fraction = 0.5\n"), "stop.aggregated_fraction needs engine.kind = \"rigid-body\"");
+  EXPECT_CONTAINS(error_of("[engine]\nkind = \"ts\"\n[collision]\ncoagulation = \"sphere\"\n"), "collision.coagulation");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nenergy_threshold = 1\n"), "only used with collision.outcome = \"energy-threshold\"");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nmerged_radius = \"fixed\"\n"), "collision.merged_radius is only used with collision.coagulation = \"sphere\"");
+  EXPECT_CONTAINS(error_of(r + "[collision]\ncoagulation = \"sphere\"\nfragmentation_energy = 1\n"), "it needs collision.coagulation = \"aggregate\"");
+  EXPECT_CONTAINS(error_of(r + "[initial]\nvelocities = \"gaussian\"\n[collision]\ncoagulation = \"sphere\"\nconstant_speed = true\n"),
+                  "it needs initial.velocities = \"fixed-speed\"");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nrestitution = 0.5\nrestitution_law = \"bridges\"\n"), "not both");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nvelocity_unit = 2\n"), "only used with collision.restitution_law = \"bridges\"");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nmu_p = 0.1\n"), "in 2D the contact has one tangent");
+}
+
+}  // namespace
+}  // namespace ballagg
