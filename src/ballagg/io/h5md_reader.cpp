@@ -40,8 +40,11 @@ struct H5mdReader<D>::Impl {
     const Handle box = hdf5::open_group(all, "box");
     const std::vector<std::int32_t> dimension = hdf5::read_int_attribute(box, "dimension");
     stored = dimension.size() == 1 ? dimension[0] : 0;
-    if (stored != D && !(D == 2 && stored == 3 && run_dimension() == 2))
-      throw InputError(fmt::format("{}: a {}D trajectory, but config.toml says {}D", path, stored, D));
+    // A 2D run stored in 3D says so; a file that does not holds a run of its box's dimension.
+    const int padded_from = run_dimension();
+    const int run = padded_from != 0 ? padded_from : stored;
+    if (run != D || (stored != D && !(D == 2 && stored == 3)))
+      throw InputError(fmt::format("{}: a {}D trajectory, but config.toml says {}D", path, run, D));
     particles.box.length = box_length(box);
     particles.radius = hdf5::read_doubles(all, "radius");
     particles.mass = hdf5::read_doubles(all, "mass");
