@@ -47,13 +47,16 @@ def frame_index(times, t):
 
 
 def read_box(source):
-    """(dimension, edges [D], periodic) of the trajectory's box."""
+    """(dimension, edges [D], periodic) of the trajectory's box (D: the run's dimension, also
+    for a 2D run stored in 3D)."""
     f, close = _open(source)
     try:
         box = f[PARTICLES + "/box"]
-        dimension = int(box.attrs["dimension"])
-        boundary = [b.decode() if isinstance(b, bytes) else str(b) for b in box.attrs["boundary"]]
-        return dimension, box["edges"][:].astype(np.float64), all(b == "periodic" for b in boundary)
+        dimension = int(f["parameters"].attrs.get("dimension", box.attrs["dimension"]))
+        boundary = [b.decode() if isinstance(b, bytes) else str(b) for b in box.attrs["boundary"]][:dimension]
+        # edges: a vector, or (3D layout) a time-dependent group of edge matrices.
+        edges = box["edges"][:] if isinstance(box["edges"], h5py.Dataset) else box["edges/value"][0].diagonal()
+        return dimension, edges[:dimension].astype(np.float64), all(b == "periodic" for b in boundary)
     finally:
         if close:
             f.close()
@@ -85,15 +88,15 @@ def read_frame(source, k, unwrap=False):
             raise IndexError(f"frame {k} out of range: the trajectory has {frames} frames")
         k %= frames
         dimension, edges, periodic = read_box(f)
-        position = g["position/value"][k].astype(np.float64)
-        image = g["image/value"][k].astype(np.int32) if "image" in g else None
+        position = g["position/value"][k, :, :dimension].astype(np.float64)
+        image = g["image/value"][k, :, :dimension].astype(np.int32) if "image" in g else None
         if unwrap and image is not None:
             position = position + image * edges
         return {
             "time": float(g["position/time"][k]),
             "step": int(g["position/step"][k]),
             "points": _pad3(position, np.float64),
-            "velocity": _pad3(g["velocity/value"][k], np.float64),
+            "velocity": _pad3(g["velocity/value"][k, :, :dimension], np.float64),
             "radius": g["radius"][:].astype(np.float64),
             "mass": g["mass"][:].astype(np.float64),
             "cluster": g["cluster/value"][k].astype(np.int32),

@@ -546,12 +546,13 @@ Config read_config(const toml::table& root, const std::string& source, const std
   if (auto v = out.boolean("xyz")) c.output.xyz = *v;
   if (auto v = out.real("snapshot_every", [](double x) { return x >= 0.0; }, "must be a number >= 0 (0: no trajectory)"))
     c.output.snapshot_every = *v;
-  if (auto v = out.choices("snapshot_formats", {"h5md", "xyz"})) {
+  if (auto v = out.choices("snapshot_formats", {"h5md", "xyz", "gsd"})) {
     c.output.snapshot_formats.clear();
     for (int k : *v) c.output.snapshot_formats.push_back(static_cast<SnapshotFormat>(k));
   }
   if (auto v = out.choice("snapshot_precision", {"single", "double"}))
     c.output.snapshot_precision = static_cast<SnapshotPrecision>(*v);
+  if (auto v = out.boolean("h5md_pad_3d")) c.output.h5md_pad_3d = *v;
   if (auto v = out.real("checkpoint_every", [](double x) { return x >= 0.0; },
                         "must be a number of wall seconds >= 0 (0: checkpoints on SIGINT/SIGTERM only)"))
     c.output.checkpoint_every = *v;
@@ -561,7 +562,7 @@ Config read_config(const toml::table& root, const std::string& source, const std
   check_rigid_body_rules(c, rigid_keys, restitution.has_value());
   if (c.output.snapshot_every > 0.0 && c.output.snapshot_formats.empty())
     throw InputError(fmt::format("{}: output.snapshot_every = {} but output.snapshot_formats is empty "
-                                 "(give \"h5md\", \"xyz\" or both, or set snapshot_every = 0)", source, c.output.snapshot_every));
+                                 "(give \"h5md\", \"xyz\" and/or \"gsd\", or set snapshot_every = 0)", source, c.output.snapshot_every));
   const bool from_file = c.initial.positions == InitialPositions::file;
   if (c.engine.kind == EngineKind::ts && c.collision.outcome != CollisionOutcome::stick)
     throw InputError(fmt::format("{}: engine.kind = \"ts\" simulates sticking only: collision.outcome must be \"stick\" "
@@ -673,7 +674,10 @@ std::string_view to_string(EngineKind k) {
   static constexpr std::string_view names[] = {"ed", "ed-naive", "ts", "rigid-body"};
   return names[static_cast<int>(k)];
 }
-std::string_view to_string(SnapshotFormat f) { return f == SnapshotFormat::h5md ? "h5md" : "xyz"; }
+std::string_view to_string(SnapshotFormat f) {
+  static constexpr std::string_view names[] = {"h5md", "xyz", "gsd"};
+  return names[static_cast<int>(f)];
+}
 std::string_view to_string(SnapshotPrecision p) { return p == SnapshotPrecision::single ? "single" : "double"; }
 std::string_view to_string(TsModel m) {
   static constexpr std::string_view names[] = {"rigid", "almost-rigid", "non-rigid"};
@@ -766,6 +770,8 @@ std::vector<Section> entries(const Config& c) {
                   {"snapshot_formats", formats},
                   {"snapshot_precision", str(to_string(c.output.snapshot_precision))},
                   {"checkpoint_every", c.output.checkpoint_every}}};
+  // Written when set only: the configuration files of runs without it stay as they were.
+  if (c.output.h5md_pad_3d) output.second.push_back({"h5md_pad_3d", true});
   if (c.engine.kind != EngineKind::ts) return {system, initial, collision, engine, stop, output};
   return {system, initial, collision, engine, ts, stop, output};
 }

@@ -67,7 +67,7 @@ struct StopConfig {
   std::optional<double> aggregated_fraction;  // rigid-body engine only
 };
 
-enum class SnapshotFormat { h5md, xyz };
+enum class SnapshotFormat { h5md, xyz, gsd };
 // How trajectory.h5md stores positions and velocities: float32 (half the bytes) or float64.
 enum class SnapshotPrecision { single, double_ };
 
@@ -77,6 +77,7 @@ struct OutputConfig {
   double snapshot_every = 0.0;       // simulated time between trajectory frames; 0: none
   std::vector<SnapshotFormat> snapshot_formats{SnapshotFormat::h5md};  // no duplicates
   SnapshotPrecision snapshot_precision = SnapshotPrecision::single;  // trajectory.h5md positions, velocities
+  bool h5md_pad_3d = false;          // 2D runs: trajectory.h5md in 3D (z = 0), the layout 3D readers need
   double checkpoint_every = 300.0;   // wall seconds between checkpoints; 0: none (signals still write one)
 };
 

@@ -35,10 +35,13 @@ AtomicFile::AtomicFile(std::string path) : path_(std::move(path)), temporary_(fr
 AtomicFile::AtomicFile(std::string path, std::uint64_t size)
     : path_(std::move(path)), temporary_(temporary_path_for(path_)), keep_(true) {
   check_output_path(path_);
-  fd_ = ::open(temporary_.c_str(), kTemporaryFlags | O_APPEND);
+  // Not O_APPEND: write_at must be able to write before the end (Linux's pwrite appends
+  // on a file opened with it). Writes continue at the end, where the seek puts them.
+  fd_ = ::open(temporary_.c_str(), kTemporaryFlags);
   if (fd_ < 0) fail(errno);
   if (!regular(fd_)) fail(EINVAL);
   if (::ftruncate(fd_, static_cast<off_t>(size)) != 0) fail(errno);
+  if (::lseek(fd_, static_cast<off_t>(size), SEEK_SET) < 0) fail(errno);
 }
 
 AtomicFile::~AtomicFile() {
@@ -52,6 +55,16 @@ void AtomicFile::write(std::string_view bytes) {
     if (w < 0 && errno == EINTR) continue;
     if (w < 0) fail(errno);
     if (w == 0) fail(ENOSPC);  // no progress and no error: a full device
+    done += static_cast<std::size_t>(w);
+  }
+}
+
+void AtomicFile::write_at(std::uint64_t offset, std::string_view bytes) {
+  for (std::size_t done = 0; done < bytes.size();) {
+    const ssize_t w = ::pwrite(fd_, bytes.data() + done, bytes.size() - done, static_cast<off_t>(offset + done));
+    if (w < 0 && errno == EINTR) continue;
+    if (w < 0) fail(errno);
+    if (w == 0) fail(ENOSPC);
     done += static_cast<std::size_t>(w);
   }
 }

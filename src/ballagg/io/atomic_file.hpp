@@ -27,6 +27,9 @@ class AtomicFile {
   ~AtomicFile();
 
   void write(std::string_view bytes);
+  // Overwrites bytes already written (a header completed at the end), leaving the position
+  // where write() continues unchanged.
+  void write_at(std::uint64_t offset, std::string_view bytes);
   // Forces what was written to the disk (fsync), for a file that must survive a crash.
   void sync();
   // Closes the file and renames it to its path.

@@ -17,6 +17,7 @@ struct H5mdReader<D>::Impl {
   Handle file;
   Particles<D> particles;
   int frames = 0;
+  int stored = D;  // dimensions per sphere in the file: D, or 3 for a 2D run padded to 3D
   Handle time, step, position, velocity, image, cluster, clusters, largest, energy;
 
   explicit Impl(const std::string& p) : path(p) {
@@ -38,12 +39,13 @@ struct H5mdReader<D>::Impl {
     const Handle all = hdf5::open_group(file, "particles/all");
     const Handle box = hdf5::open_group(all, "box");
     const std::vector<std::int32_t> dimension = hdf5::read_int_attribute(box, "dimension");
-    if (dimension.size() != 1 || dimension[0] != D)
-      throw InputError(fmt::format("{}: a {}D trajectory, but config.toml says {}D", path,
-                                   dimension.empty() ? 0 : dimension[0], D));
-    const std::vector<double> edges = hdf5::read_doubles(box, "edges");
-    if (edges.size() != static_cast<std::size_t>(D)) throw std::runtime_error("box/edges");
-    particles.box.length = edges[0];
+    stored = dimension.size() == 1 ? dimension[0] : 0;
+    // A 2D run stored in 3D says so; a file that does not holds a run of its box's dimension.
+    const int padded_from = run_dimension();
+    const int run = padded_from != 0 ? padded_from : stored;
+    if (run != D || (stored != D && !(D == 2 && stored == 3)))
+      throw InputError(fmt::format("{}: a {}D trajectory, but config.toml says {}D", path, run, D));
+    particles.box.length = box_length(box);
     particles.radius = hdf5::read_doubles(all, "radius");
     particles.mass = hdf5::read_doubles(all, "mass");
     particles.box.boundary = hdf5::exists(all, "image") ? Boundary::periodic : Boundary::walls;
@@ -57,9 +59,34 @@ struct H5mdReader<D>::Impl {
     largest = hdf5::open_dataset(file, "observables/largest_cluster/value");
     energy = hdf5::open_dataset(file, "observables/kinetic_energy/value");
     const std::vector<hsize_t> dims = hdf5::dimensions(position);
-    if (dims.size() != 3 || dims[1] != particles.radius.size() || dims[2] != static_cast<hsize_t>(D))
+    if (dims.size() != 3 || dims[1] != particles.radius.size() || dims[2] != static_cast<hsize_t>(stored))
       throw std::runtime_error("position/value has the wrong shape");
     frames = static_cast<int>(dims[0]);
+  }
+
+  // The dimension of the run a file padded to 3D comes from (parameters' attribute), or 0.
+  int run_dimension() const {
+    const Handle parameters = hdf5::open_group(file, "parameters");
+    if (H5Aexists(parameters, "dimension") <= 0) return 0;
+    const std::vector<std::int32_t> d = hdf5::read_int_attribute(parameters, "dimension");
+    return d.size() == 1 ? d[0] : 0;
+  }
+
+  // The box length: edges is a vector (time-independent) or, in the 3D layout, a series of
+  // edge matrices (the box does not change: the first is read).
+  double box_length(hid_t box) const {
+    if (!hdf5::exists(box, "edges/value")) {
+      const std::vector<double> edges = hdf5::read_doubles(box, "edges");
+      if (edges.size() != static_cast<std::size_t>(D)) throw std::runtime_error("box/edges");
+      return edges[0];
+    }
+    const Handle edges = hdf5::open_dataset(box, "edges/value");
+    const std::vector<hsize_t> dims = hdf5::dimensions(edges);
+    const hsize_t s = static_cast<hsize_t>(stored);
+    if (dims.size() != 3 || dims[0] < 1 || dims[1] != s || dims[2] != s) throw std::runtime_error("box/edges/value");
+    std::vector<double> matrix;
+    hdf5::read_record(edges, 0, matrix);
+    return matrix.at(0);
   }
 };
 
@@ -106,7 +133,7 @@ Frame<D> H5mdReader<D>::frame(int k) const {
       hdf5::read_record(dataset, r, doubles);
       out.resize(n);
       for (int i = 0; i < n; ++i)
-        for (int a = 0; a < D; ++a) out[i][a] = doubles[static_cast<std::size_t>(i) * D + a];
+        for (int a = 0; a < D; ++a) out[i][a] = doubles[static_cast<std::size_t>(i) * m.stored + a];
     };
     vectors(m.position, f.position);
     vectors(m.velocity, f.velocity);
@@ -115,7 +142,7 @@ Frame<D> H5mdReader<D>::frame(int k) const {
       hdf5::read_record(m.image, r, ints);
       f.image.resize(n);
       for (int i = 0; i < n; ++i)
-        for (int a = 0; a < D; ++a) f.image[i][a] = ints[static_cast<std::size_t>(i) * D + a];
+        for (int a = 0; a < D; ++a) f.image[i][a] = ints[static_cast<std::size_t>(i) * m.stored + a];
     }
   } catch (const std::runtime_error& e) {
     throw InputError(fmt::format("{}: cannot read frame {} ({})", m.path, k, e.what()));

@@ -3,10 +3,13 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
 #include <stdexcept>
+#include <type_traits>
 
 #include <fmt/format.h>
 
@@ -38,6 +41,15 @@ int chunk_spheres(int n) {
   return std::max(1, (n + chunks - 1) / chunks);
 }
 constexpr hsize_t kScalarChunk = 1024;  // records per chunk of step, time and observables
+
+// The unit attributes of the 3D layout. ballagg's quantities are dimensionless (lengths in
+// the unit of system.radius, times in length / speed), and H5MD readers that map unit
+// strings accept only physical ones: these are MDAnalysis's own base units, so that
+// MDAnalysis reads the numbers unchanged (it converts every other unit it knows). No H5MD
+// units module is declared (h5md/modules), so an H5MD reader takes them as extra attributes.
+constexpr const char* kLengthUnit = "Angstrom";
+constexpr const char* kTimeUnit = "ps";
+constexpr const char* kVelocityUnit = "Angstrom ps-1";
 
 // Bytes of frames after which the written pages are put on disk and dropped from the page
 // cache (release_written_pages).
@@ -79,20 +91,29 @@ struct H5mdWriter<D>::Impl {
   Handle file;
   int n = 0;
   bool periodic = false;
+  // Dimensions stored per sphere: D, or 3 for a 2D run padded with z = 0. A file stored in
+  // 3D has the layout 3D readers need: unit attributes and the box per frame (edges).
+  int stored = D;
+  std::array<double, 9> edge_matrix{};  // the box as rows of edge vectors (stored = 3)
   SnapshotPrecision precision = SnapshotPrecision::single;
   bool keep = false;  // a checkpoint refers to the temporary file
   UnreferencedTemporary registered;  // until kept or renamed: a forced quit removes it
-  std::unique_ptr<Series> step, time, position, image, velocity, cluster, clusters, largest, energy;
+  std::unique_ptr<Series> step, time, edges, position, image, velocity, cluster, clusters, largest, energy;
   std::size_t unreleased_bytes = 0;  // frame data written since the last release_written_pages
   Block<D, float> single_block;
   Block<D, double> double_block;
   FrameAssembler<D> assembler;
+  std::vector<float> padded_single;  // a block's positions or velocities in 3D (stored = 3, D = 2)
+  std::vector<double> padded_double;
+  std::vector<std::int32_t> padded_image;
 
   // The file type of positions and velocities (also the type of the blocks in memory).
   hid_t real_type() const { return precision == SnapshotPrecision::single ? H5T_NATIVE_FLOAT : H5T_NATIVE_DOUBLE; }
 
-  Impl(const std::string& path, const Particles<D>& p, const std::string& config_toml, SnapshotPrecision real)
+  Impl(const std::string& path, const Particles<D>& p, const std::string& config_toml, SnapshotPrecision real,
+       bool pad_3d)
       : precision(real) {
+    set_stored(p, pad_3d);
     hdf5::quiet_errors();
     target = path;
     temporary = fresh_temporary_for(path);
@@ -105,9 +126,19 @@ struct H5mdWriter<D>::Impl {
     }
   }
 
+  // The stored dimension and box: a 2D run padded to 3D gets a third edge one largest
+  // diameter deep (final.xyz's slab), not periodic.
+  void set_stored(const Particles<D>& p, bool pad_3d) {
+    stored = D == 3 || pad_3d ? 3 : D;
+    if (stored != 3) return;
+    const double depth = D == 3 ? p.box.length : 2.0 * *std::max_element(p.radius.begin(), p.radius.end());
+    edge_matrix = {p.box.length, 0.0, 0.0, 0.0, p.box.length, 0.0, 0.0, 0.0, depth};
+  }
+
   void create(const Particles<D>& p, const std::string& config_toml) {
     n = p.size();
     periodic = p.box.periodic();
+    const bool layout_3d = stored == 3;
     // The H5MD-recommended file format version 2, readable by HDF5 1.8 and later.
     const Handle fapl(check(H5Pcreate(H5P_FILE_ACCESS), "file properties"), H5Pclose);
     check(H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18), "file properties");
@@ -132,12 +163,12 @@ struct H5mdWriter<D>::Impl {
     }
     const Handle particles = hdf5::create_group(file, "particles");
     const Handle all = hdf5::create_group(particles, "all");
-    {
-      const Handle box = hdf5::create_group(all, "box");
-      hdf5::write_attribute(box, "dimension", std::vector<std::int32_t>{D});
-      hdf5::write_attribute(box, "boundary", std::vector<std::string>(D, periodic ? "periodic" : "none"));
-      hdf5::write_dataset(box, "edges", std::vector<double>(D, p.box.length));
-    }
+    const Handle box = hdf5::create_group(all, "box");
+    hdf5::write_attribute(box, "dimension", std::vector<std::int32_t>{stored});
+    std::vector<std::string> boundary(D, periodic ? "periodic" : "none");
+    boundary.resize(stored, "none");
+    hdf5::write_attribute(box, "boundary", boundary);
+    if (!layout_3d) hdf5::write_dataset(box, "edges", std::vector<double>(D, p.box.length));
     hdf5::write_dataset(all, "radius", p.radius);
     hdf5::write_dataset(all, "mass", p.mass);
 
@@ -148,7 +179,8 @@ struct H5mdWriter<D>::Impl {
                                     Series::Compression::none);
     time = std::make_unique<Series>(g_position, "time", H5T_NATIVE_DOUBLE, std::vector<hsize_t>{}, kScalarChunk,
                                     Series::Compression::none);
-    position = std::make_unique<Series>(g_position, "value", real_type(), std::vector<hsize_t>{un, D}, rows,
+    const hsize_t s = static_cast<hsize_t>(stored);
+    position = std::make_unique<Series>(g_position, "value", real_type(), std::vector<hsize_t>{un, s}, rows,
                                         Series::Compression::none);
     auto element = [&](hid_t parent, const std::string& name) {
       Handle g = hdf5::create_group(parent, name);
@@ -156,11 +188,20 @@ struct H5mdWriter<D>::Impl {
       check(H5Lcreate_hard(g_position, "time", g, "time", H5P_DEFAULT, H5P_DEFAULT), name + "/time");
       return g;
     };
+    if (layout_3d) {
+      // The box per frame, as a matrix of edge vectors: MDAnalysis reads no other form.
+      edges = std::make_unique<Series>(element(box, "edges"), "value", H5T_NATIVE_DOUBLE, std::vector<hsize_t>{s, s},
+                                       s, Series::Compression::none);
+      hdf5::write_variable_string_attribute(edges->id(), "unit", kLengthUnit);
+      hdf5::write_variable_string_attribute(position->id(), "unit", kLengthUnit);
+      hdf5::write_variable_string_attribute(time->id(), "unit", kTimeUnit);
+    }
     if (periodic)
-      image = std::make_unique<Series>(element(all, "image"), "value", H5T_NATIVE_INT32, std::vector<hsize_t>{un, D},
+      image = std::make_unique<Series>(element(all, "image"), "value", H5T_NATIVE_INT32, std::vector<hsize_t>{un, s},
                                        rows, Series::Compression::shuffle_deflate);
-    velocity = std::make_unique<Series>(element(all, "velocity"), "value", real_type(), std::vector<hsize_t>{un, D},
+    velocity = std::make_unique<Series>(element(all, "velocity"), "value", real_type(), std::vector<hsize_t>{un, s},
                                         rows, Series::Compression::none);
+    if (layout_3d) hdf5::write_variable_string_attribute(velocity->id(), "unit", kVelocityUnit);
     cluster = std::make_unique<Series>(element(all, "cluster"), "value", H5T_NATIVE_INT32, std::vector<hsize_t>{un},
                                        rows, Series::Compression::none);
     const Handle observables = hdf5::create_group(file, "observables");
@@ -173,11 +214,14 @@ struct H5mdWriter<D>::Impl {
     const Handle parameters = hdf5::create_group(file, "parameters");
     hdf5::write_string_dataset(parameters, "config.toml", config_toml);
     hdf5::write_string_dataset(parameters, "ballagg_version", kVersion);
+    // A 2D run stored in 3D says so (H5mdReader reads it back in 2D).
+    if (stored != D) hdf5::write_attribute(parameters, "dimension", std::vector<std::int32_t>{D});
   }
 
   // Reopens the temporary file of a checkpointed run at `frames` frames.
-  Impl(const std::string& path, const Particles<D>& p, std::uint64_t frames, SnapshotPrecision real)
+  Impl(const std::string& path, const Particles<D>& p, std::uint64_t frames, SnapshotPrecision real, bool pad_3d)
       : precision(real), keep(true) {
+    set_stored(p, pad_3d);
     hdf5::quiet_errors();
     target = path;
     temporary = temporary_path_for(path);
@@ -203,15 +247,16 @@ struct H5mdWriter<D>::Impl {
   void reopen(hsize_t frames) {
     file = Handle(H5Fopen(temporary.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), H5Fclose);
     if (file.get() < 0) throw std::runtime_error("not a readable HDF5 file");
-    const hsize_t un = static_cast<hsize_t>(n);
+    const hsize_t un = static_cast<hsize_t>(n), s = static_cast<hsize_t>(stored);
     auto series = [&](const std::string& path, hid_t type, std::vector<hsize_t> inner) {
       return std::make_unique<Series>(file, path, type, std::move(inner), frames);
     };
     step = series("particles/all/position/step", H5T_NATIVE_INT64, {});
     time = series("particles/all/position/time", H5T_NATIVE_DOUBLE, {});
-    position = series("particles/all/position/value", real_type(), {un, D});
-    if (periodic) image = series("particles/all/image/value", H5T_NATIVE_INT32, {un, D});
-    velocity = series("particles/all/velocity/value", real_type(), {un, D});
+    if (stored == 3) edges = series("particles/all/box/edges/value", H5T_NATIVE_DOUBLE, {s, s});
+    position = series("particles/all/position/value", real_type(), {un, s});
+    if (periodic) image = series("particles/all/image/value", H5T_NATIVE_INT32, {un, s});
+    velocity = series("particles/all/velocity/value", real_type(), {un, s});
     cluster = series("particles/all/cluster/value", H5T_NATIVE_INT32, {un});
     clusters = series("observables/clusters/value", H5T_NATIVE_INT32, {});
     largest = series("observables/largest_cluster/value", H5T_NATIVE_INT32, {});
@@ -236,7 +281,8 @@ struct H5mdWriter<D>::Impl {
   }
 
   void close_datasets() {
-    for (auto* s : {&step, &time, &position, &image, &velocity, &cluster, &clusters, &largest, &energy}) s->reset();
+    for (auto* s : {&step, &time, &edges, &position, &image, &velocity, &cluster, &clusters, &largest, &energy})
+      s->reset();
   }
 
   // Leaves nothing behind (an error, or a run that did not finish).
@@ -254,6 +300,7 @@ struct H5mdWriter<D>::Impl {
                    Block<D, Real>& block, Fill&& fill) {
     step->append(&frame_step);
     time->append(&frame_time);
+    if (edges) edges->append(edge_matrix.data());
     position->add_record();
     if (image) image->add_record();
     velocity->add_record();
@@ -264,9 +311,10 @@ struct H5mdWriter<D>::Impl {
       const int end = std::min(n, begin + rows);
       fill(begin, end, block);
       const hsize_t first = static_cast<hsize_t>(begin), count = static_cast<hsize_t>(end - begin);
-      position->write_rows(first, count, block.position.data());
-      if (image) image->write_rows(first, count, block.image.data());
-      velocity->write_rows(first, count, block.velocity.data());
+      const int spheres = end - begin;
+      position->write_rows(first, count, in_stored_dimensions(block.position, spheres));
+      if (image) image->write_rows(first, count, in_stored_dimensions(block.image, spheres));
+      velocity->write_rows(first, count, in_stored_dimensions(block.velocity, spheres));
       cluster->write_rows(first, count, block.cluster.data());
     }
     clusters->append(&counts[0]);
@@ -274,6 +322,24 @@ struct H5mdWriter<D>::Impl {
     energy->append(&kinetic_energy);
     unreleased_bytes += static_cast<std::size_t>(n) * (2 * D * sizeof(Real) + sizeof(std::int32_t));
     if (unreleased_bytes >= kReleasePagesBytes) release_written_pages();
+  }
+
+  // The first `spheres` vectors of a block (D values each) as stored: themselves, or padded
+  // with z = 0 into a buffer of 3 per sphere.
+  template <class T>
+  const T* in_stored_dimensions(const std::vector<T>& values, int spheres) {
+    if (stored == D) return values.data();
+    std::vector<T>& out = padded_buffer<T>();
+    out.assign(static_cast<std::size_t>(spheres) * 3, T{0});
+    for (int i = 0; i < spheres; ++i)
+      for (int a = 0; a < D; ++a) out[static_cast<std::size_t>(i) * 3 + a] = values[static_cast<std::size_t>(i) * D + a];
+    return out.data();
+  }
+  template <class T>
+  std::vector<T>& padded_buffer() {
+    if constexpr (std::is_same_v<T, float>) return padded_single;
+    else if constexpr (std::is_same_v<T, double>) return padded_double;
+    else return padded_image;
   }
 
   template <class Real>
@@ -350,13 +416,13 @@ struct H5mdWriter<D>::Impl {
 
 template <int D>
 H5mdWriter<D>::H5mdWriter(const std::string& path, const Particles<D>& particles, const std::string& config_toml,
-                          SnapshotPrecision precision)
-    : impl_(writing(path, [&] { return std::make_unique<Impl>(path, particles, config_toml, precision); })) {}
+                          SnapshotPrecision precision, bool pad_3d)
+    : impl_(writing(path, [&] { return std::make_unique<Impl>(path, particles, config_toml, precision, pad_3d); })) {}
 
 template <int D>
 H5mdWriter<D>::H5mdWriter(const std::string& path, const Particles<D>& particles, std::uint64_t mark,
-                          SnapshotPrecision precision)
-    : impl_(std::make_unique<Impl>(path, particles, mark, precision)) {}
+                          SnapshotPrecision precision, bool pad_3d)
+    : impl_(std::make_unique<Impl>(path, particles, mark, precision, pad_3d)) {}
 
 template <int D>
 H5mdWriter<D>::~H5mdWriter() = default;

@@ -120,6 +120,17 @@ void write_attribute(hid_t object, const std::string& name, const std::vector<st
   check(H5Awrite(a, type, packed.data()), "attribute " + name);
 }
 
+void write_variable_string_attribute(hid_t object, const std::string& name, const std::string& value) {
+  const Handle type(check(H5Tcopy(H5T_C_S1), "string type"), H5Tclose);
+  check(H5Tset_size(type, H5T_VARIABLE), "string type");
+  check(H5Tset_cset(type, H5T_CSET_ASCII), "string type");
+  const Handle space = scalar_space();
+  const Handle a(check(H5Acreate2(object, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT), "attribute " + name),
+                 H5Aclose);
+  const char* text = value.c_str();
+  check(H5Awrite(a, type, &text), "attribute " + name);
+}
+
 std::vector<std::int32_t> read_int_attribute(hid_t object, const std::string& name) {
   const Handle a(check(H5Aopen(object, name.c_str(), H5P_DEFAULT), "no attribute " + name), H5Aclose);
   const Handle space(check(H5Aget_space(a), "attribute " + name), H5Sclose);

@@ -72,6 +72,9 @@ bool exists(hid_t parent, const std::string& path);
 void write_attribute(hid_t object, const std::string& name, const std::vector<std::int32_t>& values);
 void write_attribute(hid_t object, const std::string& name, const std::string& value);
 void write_attribute(hid_t object, const std::string& name, const std::vector<std::string>& values);
+// A scalar variable-length ASCII string: the type the H5MD units module gives `unit`
+// attributes, and the one h5py reads as a Python str (a fixed-length one comes back as bytes).
+void write_variable_string_attribute(hid_t object, const std::string& name, const std::string& value);
 std::vector<std::int32_t> read_int_attribute(hid_t object, const std::string& name);
 
 // Fixed datasets (time-independent data).

@@ -112,6 +112,22 @@ void reclaim_completed_file(const std::string& path) {
   fs::rename(path, temporary, ec);
 }
 
+std::uint64_t checked_temporary_size(const std::string& path, std::uint64_t bytes) {
+  check_output_path(path);
+  reclaim_completed_file(path);
+  const std::string temporary = temporary_path_for(path);
+  std::error_code ec;
+  const fs::file_status status = fs::symlink_status(temporary, ec);
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw InputError(fmt::format("{}: the trajectory of the checkpointed run is not a regular file (cannot resume it)",
+                                 temporary));
+  const std::uintmax_t size = fs::file_size(temporary, ec);
+  if (ec || size < bytes)
+    throw InputError(fmt::format("{}: the trajectory of the checkpointed run is {} (cannot resume it)", temporary,
+                                 ec ? "missing" : "shorter than at the checkpoint"));
+  return bytes;
+}
+
 void write_file_atomically(const std::string& dir, const std::string& name, const std::string& content) {
   const CriticalWrite not_to_be_cut;  // a forced quit waits for the rename
   AtomicFile file((fs::path(dir) / name).string());

@@ -1,6 +1,7 @@
 #pragma once
 // The run directory. Files are written to a temporary name and renamed into place, so a
 // reader (or a crash) never sees a half-written file.
+#include <cstdint>
 #include <string>
 
 namespace ballagg {
@@ -42,6 +43,12 @@ void rename_into_place(const std::string& temporary, const std::string& path);
 // a moment earlier. Does nothing if the temporary file exists or `path` does not; a
 // failed rename leaves the temporary missing, which the caller reports.
 void reclaim_completed_file(const std::string& path);
+
+// The temporary file of a checkpointed run's trajectory `path` (taken back from `path` if
+// the run was killed after completing it: reclaim_completed_file), checked to be a regular
+// file of at least `bytes` bytes, what the checkpoint saw. Returns `bytes`. Throws
+// InputError.
+std::uint64_t checked_temporary_size(const std::string& path, std::uint64_t bytes);
 
 // Writes `content` to dir/name atomically (AtomicFile). Throws OutputError on failure.
 void write_file_atomically(const std::string& dir, const std::string& name, const std::string& content);

@@ -1,38 +1,9 @@
 #include "ballagg/io/xyz_trajectory_writer.hpp"
 
-#include <filesystem>
-
-#include <fmt/format.h>
-
-#include "ballagg/core/input_error.hpp"
 #include "ballagg/io/output_dir.hpp"
 #include "ballagg/io/xyz.hpp"
 
-namespace fs = std::filesystem;
-
 namespace ballagg {
-namespace {
-
-// The temporary file of a checkpointed run (taken back from `path` if the run was killed
-// after completing it), checked to hold the `mark` bytes the checkpoint saw. Throws
-// InputError.
-std::uint64_t checked_mark(const std::string& path, std::uint64_t mark) {
-  check_output_path(path);
-  reclaim_completed_file(path);
-  const std::string temporary = temporary_path_for(path);
-  std::error_code ec;
-  const fs::file_status status = fs::symlink_status(temporary, ec);
-  if (fs::exists(status) && !fs::is_regular_file(status))
-    throw InputError(fmt::format("{}: the trajectory of the checkpointed run is not a regular file (cannot resume it)",
-                                 temporary));
-  const std::uintmax_t size = fs::file_size(temporary, ec);
-  if (ec || size < mark)
-    throw InputError(fmt::format("{}: the trajectory of the checkpointed run is {} (cannot resume it)", temporary,
-                                 ec ? "missing" : "shorter than at the checkpoint"));
-  return mark;
-}
-
-}  // namespace
 
 template <int D>
 XyzTrajectoryWriter<D>::XyzTrajectoryWriter(const std::string& path, const Particles<D>& particles)
@@ -40,7 +11,7 @@ XyzTrajectoryWriter<D>::XyzTrajectoryWriter(const std::string& path, const Parti
 
 template <int D>
 XyzTrajectoryWriter<D>::XyzTrajectoryWriter(const std::string& path, const Particles<D>& particles, std::uint64_t mark)
-    : file_(path, checked_mark(path, mark)), particles_(particles), bytes_(mark) {}
+    : file_(path, checked_temporary_size(path, mark)), particles_(particles), bytes_(mark) {}
 
 template <int D>
 void XyzTrajectoryWriter<D>::write(const Frame<D>& frame) {

@@ -16,10 +16,10 @@ namespace fs = std::filesystem;
 namespace ballagg {
 namespace {
 
-constexpr std::array<std::string_view, 16> kRunFiles = {
+constexpr std::array<std::string_view, 17> kRunFiles = {
     // ballagg run
     "config.toml", "summary.json", "final.csv", "final.xyz", "timeseries.csv", "trajectory.h5md", "trajectory.xyz",
-    kCheckpointFile,
+    "trajectory.gsd", kCheckpointFile,
     // ballagg analyze (analysis_files.hpp), also written at the end of a rigid-body run
     "analysis.json", "clusters.csv", "mass_spectrum.csv", "box_counting.csv", "pair_distribution.csv",
     "mass_radius.csv",

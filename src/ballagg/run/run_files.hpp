@@ -13,7 +13,7 @@ namespace ballagg {
 
 // Whether `name` (a file name, no directory) is one ballagg writes in a run directory:
 // those of `run` (config.toml, summary.json, final.csv, final.xyz, timeseries.csv,
-// trajectory.h5md, trajectory.xyz, checkpoint.bin), of `analyze` (analysis.json and its
+// trajectory.h5md, trajectory.xyz, trajectory.gsd, checkpoint.bin), of `analyze` (analysis.json and its
 // tables), `render`'s default pictures (final.png, frame-K.png), a sweep run's error.txt,
 // and the temporary file .NAME.tmp of any of them.
 bool is_run_file(std::string_view name);

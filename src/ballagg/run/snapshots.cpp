@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "ballagg/core/byte_stream.hpp"
+#include "ballagg/io/gsd_writer.hpp"
 #include "ballagg/io/h5md_writer.hpp"
 #include "ballagg/io/xyz_trajectory_writer.hpp"
 
@@ -98,6 +99,8 @@ void SnapshotRecorder<D>::restore(std::string_view saved) {
   resumed_ = true;
 }
 
+std::string trajectory_file_name(SnapshotFormat format) { return fmt::format("trajectory.{}", to_string(format)); }
+
 template <int D>
 std::unique_ptr<SnapshotRecorder<D>> make_snapshot_recorder(const Config& c, const State<D>& initial,
                                                             const std::string& dir,
@@ -113,11 +116,15 @@ std::unique_ptr<SnapshotRecorder<D>> make_snapshot_recorder(const Config& c, con
   std::vector<std::unique_ptr<FrameSink<D>>> sinks;
   for (std::size_t k = 0; k < c.output.snapshot_formats.size(); ++k) {
     const SnapshotFormat f = c.output.snapshot_formats[k];
-    const std::string path = (std::filesystem::path(dir) / (f == SnapshotFormat::h5md ? "trajectory.h5md" : "trajectory.xyz")).string();
+    const std::string path = (std::filesystem::path(dir) / trajectory_file_name(f)).string();
     if (f == SnapshotFormat::h5md) {
       const SnapshotPrecision precision = c.output.snapshot_precision;
-      if (saved) sinks.push_back(std::make_unique<H5mdWriter<D>>(path, particles, marks[k], precision));
-      else sinks.push_back(std::make_unique<H5mdWriter<D>>(path, particles, to_toml_text(c), precision));
+      const bool pad = c.output.h5md_pad_3d;
+      if (saved) sinks.push_back(std::make_unique<H5mdWriter<D>>(path, particles, marks[k], precision, pad));
+      else sinks.push_back(std::make_unique<H5mdWriter<D>>(path, particles, to_toml_text(c), precision, pad));
+    } else if (f == SnapshotFormat::gsd) {
+      if (saved) sinks.push_back(std::make_unique<GsdWriter<D>>(path, particles, marks[k]));
+      else sinks.push_back(std::make_unique<GsdWriter<D>>(path, particles));
     } else {
       if (saved) sinks.push_back(std::make_unique<XyzTrajectoryWriter<D>>(path, particles, marks[k]));
       else sinks.push_back(std::make_unique<XyzTrajectoryWriter<D>>(path, particles));

@@ -69,7 +69,10 @@ class SnapshotRecorder final : public RunObserver<D> {
   bool resumed_ = false;
 };
 
-// The sinks a run's configuration asks for (trajectory.h5md, trajectory.xyz in `dir`),
+// trajectory.h5md, trajectory.xyz or trajectory.gsd.
+std::string trajectory_file_name(SnapshotFormat format);
+
+// The sinks a run's configuration asks for (trajectory_file_name of each in `dir`),
 // on a background thread. Null when output.snapshot_every = 0. With `saved` (what save()
 // returned), the recorder of a resumed run: it continues the files it saved.
 template <int D>
