@@ -31,15 +31,23 @@ def fail(message):
     sys.exit(2)
 
 
-try:
-    import matplotlib
+# matplotlib and numpy, imported once the options and directories are known to be good
+# (the import takes about a second: a mistyped option is reported at once).
+plt = ticker = np = None
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import matplotlib.ticker as ticker
-    import numpy as np
-except ImportError as e:
-    fail(f"{e} (install Debian's python3-matplotlib and python3-numpy: scripts/setup)")
+
+def import_libraries():
+    global plt, ticker, np
+    try:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        import matplotlib.ticker as ticker
+        import numpy as np
+    except ImportError as e:
+        fail(f"{e} (install Debian's python3-matplotlib and python3-numpy: scripts/setup)")
+
 
 FORMATS = ("png", "pdf", "svg")
 MIN_DPI, MAX_DPI = 10, 2400  # a PNG from a thumbnail to a print proof
@@ -62,7 +70,6 @@ DEFAULT_STYLE = {
     "errorbar.capsize": 2,
     "legend.frameon": False,
     "legend.handlelength": 1.8,
-    "axes.prop_cycle": plt.cycler(color=plt.get_cmap("tab10").colors),
     "pdf.fonttype": 42,
     "ps.fonttype": 42,
     "svg.fonttype": "none",
@@ -813,6 +820,7 @@ def main(argv):
     kinds = {d: kind_of(d) for d in o.dirs}
     if len(set(kinds.values())) > 1:
         fail(f"{', '.join(o.dirs)}: sweep and run directories mixed (plot sweeps together, or runs together)")
+    import_libraries()
     apply_style(o)
     data = load_sweeps(o.dirs) if kinds[o.dirs[0]] == "sweep" else load_runs(o.dirs)
     out = o.out or os.path.join(o.dirs[0], "figures")
