@@ -19,7 +19,7 @@ namespace ballagg::cli {
 void add_plot_command(CLI::App& app, PlotCommand& p) {
   p.command = app.add_subcommand(
       "plot", "Draw the figures of sweeps (their points together) or of runs (matplotlib: PNG, PDF or SVG)");
-  p.command->add_option("dirs", p.dirs, "Sweep directories (with sweep.csv) or run directories (with timeseries.csv)")
+  p.command->add_option("DIR", p.dirs, "Sweep directories (with sweep.csv) or run directories (with timeseries.csv)")
       ->type_name("DIR");
   p.command->add_option("--out", p.out_dir, "Where to write the figures (default: the first DIR/figures)");
   // The values are checked by the script, which a user may also run on its own.
@@ -32,7 +32,7 @@ void add_plot_command(CLI::App& app, PlotCommand& p) {
       ->type_name("FILE");
   CLI::Option* print = p.command->add_flag("--print-script", p.print_script,
                                            "Write the built-in plotting script to standard output, to copy and edit");
-  for (const char* other : {"dirs", "--out", "--format", "--dpi", "--size", "--style", "--script"})
+  for (const char* other : {"DIR", "--out", "--format", "--dpi", "--size", "--style", "--script"})
     print->excludes(p.command->get_option(other));
 }
 
@@ -43,7 +43,9 @@ int run_plot_command(const PlotCommand& p) {
   }
   if (p.dirs.empty()) throw InputError("plot: no directory given (usage: ballagg plot [OPTIONS] DIR..., see ballagg plot --help)");
   for (const std::string& dir : p.dirs)
-    if (!std::filesystem::is_directory(dir)) throw InputError(fmt::format("{}: not a sweep or run directory", dir));
+    if (!std::filesystem::is_directory(dir))
+      throw InputError(fmt::format("{}: not a sweep directory nor a run directory ({})", dir,
+                                   std::filesystem::exists(dir) ? "not a directory" : "no such directory"));
   if (!p.script.empty() && !std::filesystem::is_regular_file(p.script))
     throw InputError(fmt::format("--script {}: no such file (write the built-in one with: ballagg plot --print-script > FILE)",
                                  p.script));
