@@ -17,21 +17,50 @@
 namespace ballagg::cli {
 
 void add_plot_command(CLI::App& app, PlotCommand& p) {
-  p.command = app.add_subcommand("plot", "Draw the figures of sweeps (PNG, matplotlib), their points together");
-  p.command->add_option("sweep_dirs", p.sweep_dirs, "Sweep directories (with sweep.csv)")->required();
-  p.command->add_option("--out", p.out_dir, "Where to write the PNG files (default: the first SWEEP_DIR/figures)");
+  p.command = app.add_subcommand(
+      "plot", "Draw the figures of sweeps (their points together) or of runs (matplotlib: PNG, PDF or SVG)");
+  p.command->add_option("DIR", p.dirs, "Sweep directories (with sweep.csv) or run directories (with timeseries.csv)")
+      ->type_name("DIR");
+  p.command->add_option("--out", p.out_dir, "Where to write the figures (default: the first DIR/figures)");
+  // The values are checked by the script, which a user may also run on its own.
+  p.command->add_option("--format", p.format, "png (default), pdf or svg");
+  p.command->add_option("--dpi", p.dpi, "Dots per inch of a PNG (default 300)")->type_name("N");
+  p.command->add_option("--size", p.size, "Size of one panel in inches (default 3.4x2.6: one journal column)")
+      ->type_name("WIDTHxHEIGHT");
+  p.command->add_option("--style", p.style, "A matplotlib style file applied on top of the defaults")->type_name("FILE");
+  p.command->add_option("--script", p.script, "Run this plotting script instead of the built-in one (an edited copy)")
+      ->type_name("FILE");
+  CLI::Option* print = p.command->add_flag("--print-script", p.print_script,
+                                           "Write the built-in plotting script to standard output, to copy and edit");
+  for (const char* other : {"DIR", "--out", "--format", "--dpi", "--size", "--style", "--script"})
+    print->excludes(p.command->get_option(other));
 }
 
 int run_plot_command(const PlotCommand& p) {
-  for (const std::string& dir : p.sweep_dirs)
-    if (!std::filesystem::is_directory(dir)) throw InputError(fmt::format("{}: not a sweep directory", dir));
+  if (p.print_script) {
+    fmt::print("{}", kPlotScript);
+    return 0;
+  }
+  if (p.dirs.empty()) throw InputError("plot: no directory given (usage: ballagg plot [OPTIONS] DIR..., see ballagg plot --help)");
+  for (const std::string& dir : p.dirs)
+    if (!std::filesystem::is_directory(dir))
+      throw InputError(fmt::format("{}: not a sweep directory nor a run directory ({})", dir,
+                                   std::filesystem::exists(dir) ? "not a directory" : "no such directory"));
+  if (!p.script.empty() && !std::filesystem::is_regular_file(p.script))
+    throw InputError(fmt::format("--script {}: no such file (write the built-in one with: ballagg plot --print-script > FILE)",
+                                 p.script));
   const char* env = std::getenv("BALLAGG_PYTHON");
   const std::string python = env != nullptr && *env != '\0' ? env : "/usr/bin/python3";
-  std::vector<std::string> args = {python, "-"};
-  if (!p.out_dir.empty()) args.insert(args.end(), {"--out", p.out_dir});
-  args.insert(args.end(), p.sweep_dirs.begin(), p.sweep_dirs.end());
+  std::vector<std::string> args = {python, p.script.empty() ? "-" : p.script};
+  for (const auto& [name, value] : {std::pair{"--out", &p.out_dir}, std::pair{"--format", &p.format},
+                                    std::pair{"--dpi", &p.dpi}, std::pair{"--size", &p.size}, std::pair{"--style", &p.style}})
+    if (!value->empty()) args.insert(args.end(), {name, *value});
+  // "--": a directory named like an option stays a directory.
+  args.push_back("--");
+  args.insert(args.end(), p.dirs.begin(), p.dirs.end());
 
-  // The script goes to the interpreter's standard input ("python3 -"): no temporary file.
+  // The built-in script goes to the interpreter's standard input ("python3 -"): no
+  // temporary file. A --script file is read by the interpreter itself.
   int pipe_fds[2];
   if (pipe(pipe_fds) != 0) throw std::runtime_error(fmt::format("cannot create a pipe: {}", std::strerror(errno)));
   const pid_t child = fork();
@@ -49,7 +78,7 @@ int run_plot_command(const PlotCommand& p) {
     _exit(2);
   }
   close(pipe_fds[0]);
-  const std::string script = kPlotScript;
+  const std::string script = p.script.empty() ? kPlotScript : "";
   std::size_t written = 0;
   while (written < script.size()) {
     const ssize_t n = write(pipe_fds[1], script.data() + written, script.size() - written);

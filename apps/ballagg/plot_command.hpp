@@ -1,6 +1,7 @@
 #pragma once
-// `ballagg plot`: the figures of a sweep (scripts/plot_sweep.py, run by Debian's
-// /usr/bin/python3 with matplotlib; BALLAGG_PYTHON names another interpreter).
+// `ballagg plot`: the figures of sweeps or runs (scripts/ballagg_plot.py, embedded, run by
+// Debian's /usr/bin/python3 with matplotlib; BALLAGG_PYTHON names another interpreter,
+// --script another script).
 #include <string>
 #include <vector>
 
@@ -10,8 +11,9 @@ namespace ballagg::cli {
 
 struct PlotCommand {
   CLI::App* command = nullptr;
-  std::vector<std::string> sweep_dirs;
-  std::string out_dir;
+  std::vector<std::string> dirs;
+  std::string out_dir, format, dpi, size, style, script;
+  bool print_script = false;
 };
 
 void add_plot_command(CLI::App& app, PlotCommand& plot);
