@@ -9,6 +9,7 @@ namespace ballagg::cli {
 struct AnalyzeCommand {
   CLI::App* command = nullptr;
   AnalyzeRequest request;
+  bool quiet = false;  // no headline indicators
 };
 
 void add_analyze_command(CLI::App& app, AnalyzeCommand& analyze);

@@ -15,6 +15,7 @@
 #include "ballagg/run/checkpointer.hpp"
 #include "ballagg/run/simulation.hpp"
 #include "command_line.hpp"
+#include "end_of_run_report.hpp"
 
 int main(int argc, char** argv) {
   ballagg::hdf5::no_library_exit_handler();  // every file is closed by its owner
@@ -36,13 +37,15 @@ int main(int argc, char** argv) {
       std::cout << ballagg::to_toml_text(c);
       return 0;
     }
+    std::string dir;
     if (!cl.resume_dir.empty()) {
-      fmt::print("results in {}\n", ballagg::resume_simulation(cl.resume_dir, cl.run_options));
-      return 0;
+      dir = ballagg::resume_simulation(cl.resume_dir, cl.run_options);
+    } else {
+      ballagg::Config c = ballagg::load_config(cl.run_args.file, cl.run_args.overrides);
+      if (cl.seed) c.initial.seed = *cl.seed;
+      dir = ballagg::run_simulation(c, cl.run_options);
     }
-    ballagg::Config c = ballagg::load_config(cl.run_args.file, cl.run_args.overrides);
-    if (cl.seed) c.initial.seed = *cl.seed;
-    const std::string dir = ballagg::run_simulation(c, cl.run_options);
+    if (!cl.run_options.quiet) fmt::print("{}", ballagg::cli::run_report_of(dir));
     fmt::print("results in {}\n", dir);
     return 0;
   } catch (const ballagg::RunInterrupted& e) {

@@ -22,7 +22,8 @@ class ProgressReporter final : public RunObserver<D> {
   void on_finish(const State<D>& s, const RunResult& r) override;
 
  private:
-  void report(const State<D>& s, std::int64_t events, bool final);
+  enum class Moment { running, ended, cut };
+  void report(const State<D>& s, std::int64_t events, Moment moment);
   double seconds() const;
 
   std::FILE* out_;
