@@ -34,6 +34,7 @@
 
 #include <fmt/format.h>
 
+#include "ballagg/collision/crossing.hpp"
 #include "ballagg/collision/prediction.hpp"
 #include "ballagg/collision/rigid_impulse.hpp"
 #include "ballagg/core/byte_stream.hpp"
@@ -41,8 +42,10 @@
 #include "ballagg/engines/event_driven/event_calendar.hpp"
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
+#include "ballagg/engines/event_driven/neighbor_keeper.hpp"
 #include "ballagg/engines/rigid_body/contact_search.hpp"
 #include "ballagg/engines/rigid_body/rigid_bodies.hpp"
+#include "ballagg/engines/rigid_body/rotation_drift.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
 #include "ballagg/spatial/neighbor_lists.hpp"
 
@@ -63,7 +66,9 @@ class RigidBodyCore {
  public:
   using Settings = RigidBodySettings;
   RigidBodyCore(State<D>& state, const RigidBodySettings& settings)
-      : s_(state), law_(settings), skin_(choose_skin(state, settings.skin)) {
+      : s_(state), law_(settings),
+        keeper_(RotationDrift<D>(state, bodies_), fitted_skin(state, settings.skin, rigid_body_skin(state),
+                                                              SkinLimitRounding::multiply_first)) {
     if (law_.coagulation == Coagulation::sphere) {
       for (int c : s_.alive_clusters())
         if (s_.clusters[c].size() > 1)
@@ -91,14 +96,14 @@ class RigidBodyCore {
   // Restores what save() wrote for this state (a checkpoint), nothing computed again: the
   // run goes on with the very bodies, lists and events the saved one had.
   RigidBodyCore(State<D>& state, const RigidBodySettings& settings, std::string_view saved)
-      : s_(state), law_(settings), skin_(0.0), resumed_(true) {
+      : s_(state), law_(settings), keeper_(RotationDrift<D>(state, bodies_), 0.0), resumed_(true) {
     const int n = s_.n_spheres();
     const int m = static_cast<int>(s_.clusters.size());
     ByteReader r(saved, "checkpoint of the rigid-body engine");
     count_ = r.get<EngineCounters>("counters");
     loop_ = r.get<EventLoopState>("loop state");
-    skin_ = r.get<double>("skin");
-    if (!(std::isfinite(skin_) && skin_ > 0.0)) r.fail("neighbour-list skin not a positive number");
+    keeper_.set_skin(r.get<double>("skin"));
+    if (!(std::isfinite(keeper_.skin()) && keeper_.skin() > 0.0)) r.fail("neighbour-list skin not a positive number");
     if (r.get<std::int32_t>("sphere count") != n || r.get<std::int32_t>("cluster count") != m)
       r.fail("saved for another number of spheres or clusters");
     s_.spin.resize(m);
@@ -107,7 +112,7 @@ class RigidBodyCore {
       w.angular_momentum = r.get<Spin<D>>("angular momentum");
     }
     bodies_.restore(r, m, n);
-    grid_ = std::make_unique<CellGrid<D>>(s_.box, 2.0 * s_.max_radius() + 1.5 * skin_, n);
+    grid_ = std::make_unique<CellGrid<D>>(s_.box, binning_cell_size(s_, keeper_.skin()), n);
     if (r.get<double>("cell size") != grid_->cell_size()) r.fail("cell grid for another largest radius or skin");
     grid_->restore(r);
     lists_.reset(n, m);
@@ -126,13 +131,7 @@ class RigidBodyCore {
       p.rotation = r.get<Rotation<D>>("pose");
       p.angular_velocity = r.get<Spin<D>>("pose");
     }
-    drift_.resize(m);
-    for (Drift& d : drift_) {
-      d.displacement_at_anchor = r.get<Vec<D>>("drift");
-      d.slack = r.get<double>("drift slack");
-      d.angle_at_anchor = r.get<double>("drift angle");
-    }
-    rebuild_at_ = r.get_vector<double>("rebuild times", m);
+    keeper_.restore(r, m);
     serial_ = r.get_vector<std::int64_t>("body serials", m);
     partner_ = r.get_vector<std::int64_t>("body partners", m);
     next_serial_ = r.get<std::int64_t>("next serial");
@@ -143,8 +142,7 @@ class RigidBodyCore {
     free_mass_ = r.get<double>("free mass");
     total_mass_ = r.get<double>("total mass");
     spans_box_ = r.get<std::uint8_t>("spans box") != 0;
-    if (static_cast<int>(pose_time_.size()) != m || static_cast<int>(rebuild_at_.size()) != m ||
-        static_cast<int>(serial_.size()) != m || static_cast<int>(partner_.size()) != m ||
+    if (static_cast<int>(pose_time_.size()) != m || static_cast<int>(serial_.size()) != m || static_cast<int>(partner_.size()) != m ||
         static_cast<int>(merged_sphere_.size()) != n)
       r.fail("per-body or per-sphere arrays of another length");
     r.expect_end();
@@ -159,7 +157,7 @@ class RigidBodyCore {
     ByteWriter w;
     w.put(count_);
     w.put(loop_);
-    w.put(skin_);
+    w.put(keeper_.skin());
     w.put<std::int32_t>(s_.n_spheres());
     w.put<std::int32_t>(m);
     for (const ClusterSpin<D>& c : s_.spin) w.put(c.angular_velocity), w.put(c.angular_momentum);
@@ -170,8 +168,7 @@ class RigidBodyCore {
     calendar_.save(w);
     w.put_vector(pose_time_);
     for (const Pose& p : pose_) w.put(p.rotation), w.put(p.angular_velocity);
-    for (const Drift& d : drift_) w.put(d.displacement_at_anchor), w.put(d.slack), w.put(d.angle_at_anchor);
-    w.put_vector(rebuild_at_);
+    keeper_.save(w);
     w.put_vector(serial_);
     w.put_vector(partner_);
     w.put(next_serial_);
@@ -221,12 +218,6 @@ class RigidBodyCore {
   }
 
  private:
-  static double choose_skin(const State<D>& s, double requested) {
-    double skin = requested > 0.0 ? requested : rigid_body_skin(s);
-    if (s.box.periodic()) skin = std::min(skin, 0.99 * (0.5 * s.box.length - 2.0 * s.max_radius()) / 1.5);
-    return skin;
-  }
-
   bool valid(const Event& e) const {
     switch (e.kind) {
       case EventKind::collision:
@@ -265,78 +256,16 @@ class RigidBodyCore {
 
   // ---- neighbour lists ----------------------------------------------------------------------
 
-  struct Drift {
-    Vec<D> displacement_at_anchor = Vec<D>::Zero();  // of the centre, since the reference instant
-    double slack = 0.0;                               // drift before the reference instant
-    double angle_at_anchor = 0.0;                     // bound on the rotation since then
-  };
-  double spin_bound(int c) const { return s_.clusters[c].size() == 1 ? 0.0 : bodies_[c].rotation.max_angular_speed(); }
-  Vec<D> displacement(int c, double t) const {
-    const Cluster<D>& k = s_.clusters[c];
-    return drift_[c].displacement_at_anchor + (t - k.anchor_time) * k.velocity;
-  }
-  double turned(int c, double t) const {
-    return drift_[c].angle_at_anchor + spin_bound(c) * (t - s_.clusters[c].anchor_time);
-  }
-  // Bound on how far any sphere of body c is from where it was binned: the centre's
-  // displacement plus the chord its farthest sphere can have swept (at most 2 reach).
-  double drift(int c, double t) const {
-    return drift_[c].slack + displacement(c, t).norm() + bodies_[c].reach * std::min(2.0, turned(c, t));
-  }
-  // Must be called just before body c's motion changes at t.
-  void fold_drift(int c, double t) {
-    drift_[c].displacement_at_anchor = displacement(c, t);
-    drift_[c].angle_at_anchor = turned(c, t);
-  }
-  void reset_drift(int c, double t) {
-    const double dt = t - s_.clusters[c].anchor_time;
-    drift_[c] = {-dt * s_.clusters[c].velocity, 0.0, -dt * spin_bound(c)};
-  }
-
-  // When body c's drift may reach skin / 2. Two bounds of the drift, both valid: from
-  // now on, the centre moving at most |V| tau and the farthest sphere turning at most
-  // Omega tau (linear); and the exact displacement of the centre with the whole chord
-  // 2 reach (the later root of |d0 + V tau| = skin / 2 - slack - 2 reach). The drift stays
-  // below skin / 2 until the later of the two crossings.
-  double rebuild_time(int c) const {
-    const Cluster<D>& k = s_.clusters[c];
-    const Drift& d = drift_[c];
-    const double now = s_.time;
-    const double room = 0.5 * skin_ - d.slack;
-    const double reach = bodies_[c].reach, omega = spin_bound(c);
-    double linear = -kNever;
-    const double used = displacement(c, now).norm() + reach * std::min(2.0, turned(c, now));
-    const double rate = k.velocity.norm() + reach * omega;
-    if (rate > 0.0) linear = now + (room - used) / rate;
-    else if (used < room) linear = kNever;
-    double chord = -kNever;
-    const double rest = room - 2.0 * reach;
-    if (rest > 0.0) {
-      const double a = k.velocity.squaredNorm();
-      const Vec<D>& d0 = d.displacement_at_anchor;
-      const double b = d0.dot(k.velocity), cc = d0.squaredNorm() - rest * rest;
-      const double disc = b * b - a * cc;
-      if (a == 0.0) chord = cc < 0.0 ? kNever : -kNever;
-      else if (disc >= 0.0) chord = k.anchor_time + (b <= 0.0 ? (std::sqrt(disc) - b) / a : -cc / (b + std::sqrt(disc)));
-    }
-    const double t = std::max(linear, chord);
-    return t == kNever ? kNever : std::max(t, now);
-  }
+  double spin_bound(int c) const { return keeper_.bound().spin_bound(c); }
 
   // Calls found(j) for every foreign sphere j within sigma + skin of sphere i at time t
-  // for which wanted(j) holds; as in the event-driven engine, the grid skips i's own
-  // body and rejects spheres binned beyond R_i + R_max + 1.5 skin.
+  // for which wanted(j) holds (engines/event_driven/neighbor_keeper.hpp).
   template <class Wanted, class Found>
   void for_each_foreign_near(int i, double t, Wanted&& wanted, Found&& found) {
-    const int ci = body_of(i);
     const Vec<D> xi = unwrapped_position(i, t);
-    const Vec<D> folded = s_.box.wrap(xi);
-    const double binned_reach = s_.spheres.radius[i] + s_.max_radius() + 1.5 * skin_;
-    grid_->for_each_near_image(folded, ci, [&](int j, const Vec<D>& binned) {
-      if ((folded - binned).squaredNorm() >= binned_reach * binned_reach) return;
-      if (!wanted(j)) return;
-      if (within_reach(i, xi, j, t)) found(j);
-    });
+    ballagg::for_each_foreign_near(
+        *grid_, s_, keeper_.skin(), body_of(i), s_.box.wrap(xi), s_.spheres.radius[i], wanted,
+        [&](int j) { return within_reach(i, xi, j, t); }, found);
   }
   // Whether the pair (i, j) belongs in the lists at time t: closer than sigma + skin. A
   // sphere of a spinning aggregate is not located (that would cost an orientation): it is
@@ -345,10 +274,10 @@ class RigidBodyCore {
   // costs a prediction; dropping one only when it is surely out of reach keeps the lists
   // valid.
   bool within_reach(int i, const Vec<D>& xi, int j, double t) {
-    const double reach = s_.spheres.radius[i] + s_.spheres.radius[j] + skin_;
+    const double reach = s_.spheres.radius[i] + s_.spheres.radius[j] + keeper_.skin();
     const int d = body_of(j);
     if (bodies_.translates(s_, d)) return s_.box.separation(xi, unwrapped_position(j, t)).squaredNorm() < reach * reach;
-    const double nearest = s_.box.separation(xi, grid_->binned(j)).norm() - drift(d, t);
+    const double nearest = s_.box.separation(xi, grid_->binned(j)).norm() - keeper_.drift(d, t);
     return nearest < reach;
   }
 
@@ -358,21 +287,20 @@ class RigidBodyCore {
     const int n = s_.n_spheres();
     const int m = static_cast<int>(s_.clusters.size());
     const double t = s_.time;
-    grid_ = std::make_unique<CellGrid<D>>(s_.box, 2.0 * s_.max_radius() + 1.5 * skin_, n);
+    grid_ = std::make_unique<CellGrid<D>>(s_.box, binning_cell_size(s_, keeper_.skin()), n);
     pose_time_.assign(m, std::numeric_limits<double>::quiet_NaN());
     pose_.resize(m);
-    drift_.assign(m, Drift{});
-    rebuild_at_.assign(m, kNever);
+    keeper_.assign(m);
     lists_.reset(n, m);
     calendar_.reset(m);
     for (int i = 0; i < n; ++i) {
       grid_->insert(i, s_.box.wrap(unwrapped_position(i, t)));
       grid_->set_tag(i, body_of(i));
     }
-    for (int c : s_.alive_clusters()) reset_drift(c, t);
+    for (int c : s_.alive_clusters()) keeper_.reset(c, t);
     for (int i = 0; i < n; ++i)
       for_each_foreign_near(i, t, [&](int j) { return j > i; }, [&](int j) { lists_.add_pair(i, j, s_.spheres.cluster.data()); });
-    for (int c : s_.alive_clusters()) rebuild_at_[c] = rebuild_time(c);
+    for (int c : s_.alive_clusters()) keeper_.renew_expiry(c);
     for (int c : s_.alive_clusters()) predict(c, /*skip_lower_bodies=*/true);
   }
 
@@ -391,7 +319,7 @@ class RigidBodyCore {
     for (auto e = static_cast<std::ptrdiff_t>(lists_.exposed(c).size()) - 1; e >= 0; --e)
       drop_out_of_reach(lists_.exposed(c)[e], t);
     for (int i : s_.clusters[c].members) grid_->move(i, s_.box.wrap(unwrapped_position(i, t)));
-    reset_drift(c, t);
+    keeper_.reset(c, t);
     // Predictions already filed stay valid (exact contact times, or searches that look at
     // the lists when they run). The pairs that came into reach need predictions, and so
     // do the rotating partners, whose last search may have stopped at the old expiry.
@@ -409,8 +337,7 @@ class RigidBodyCore {
     std::sort(pairs_.begin(), pairs_.end());
     pairs_.erase(std::unique(pairs_.begin(), pairs_.end()), pairs_.end());
     batch_.clear();
-    rebuild_at_[c] = rebuild_time(c);
-    if (rebuild_at_[c] < kNever) batch_.push_back({rebuild_at_[c], c, 0, s_.clusters[c].stamp, 0, EventKind::list_rebuild});
+    if (keeper_.renew_expiry(c) < kNever) batch_.push_back({keeper_.expiry(c), c, 0, s_.clusters[c].stamp, 0, EventKind::list_rebuild});
     predict_pairs(c, t);
     calendar_.file(c, batch_);
     count_.queue_peak = std::max<std::int64_t>(count_.queue_peak, calendar_.size());
@@ -426,9 +353,8 @@ class RigidBodyCore {
   void predict(int c, bool skip_lower_bodies = false, int skip_body = -1) {
     const double now = s_.time;
     batch_.clear();
-    rebuild_at_[c] = rebuild_time(c);
     const Cluster<D>& k = s_.clusters[c];
-    if (rebuild_at_[c] < kNever) batch_.push_back({rebuild_at_[c], c, 0, k.stamp, 0, EventKind::list_rebuild});
+    if (keeper_.renew_expiry(c) < kNever) batch_.push_back({keeper_.expiry(c), c, 0, k.stamp, 0, EventKind::list_rebuild});
     if (!s_.box.periodic()) predict_walls(c, now);
     pairs_.clear();
     for (int i : lists_.exposed(c)) {
@@ -456,7 +382,7 @@ class RigidBodyCore {
 
   // The next contact of bodies c and d through the listed pairs pairs_[first, last).
   void predict_pair(int c, int d, std::size_t first, std::size_t last, double now) {
-    const double limit = std::min(rebuild_at_[c], rebuild_at_[d]);
+    const double limit = std::min(keeper_.expiry(c), keeper_.expiry(d));
     const Cluster<D>& kc = s_.clusters[c];
     const Cluster<D>& kd = s_.clusters[d];
     if (bodies_.translates(s_, c) && bodies_.translates(s_, d)) {
@@ -566,7 +492,7 @@ class RigidBodyCore {
     if (pairs_.empty()) return record;
     std::sort(pairs_.begin(), pairs_.end());
     search_range_ = {0, pairs_.size()};
-    const double limit = std::min(rebuild_at_[c], rebuild_at_[d]);
+    const double limit = std::min(keeper_.expiry(c), keeper_.expiry(d));
     const double horizon = calendar_.earliest_time();
     for (int steps = 0;; ++steps) {
       const PairStep step = advance_pairs(c, d, t);
@@ -625,13 +551,13 @@ class RigidBodyCore {
     const double alpha = bodies_[c].rotation.max_angular_acceleration() + omega * omega;
     const double towards = std::abs(k.velocity[a]);
     const double window_speed = towards + omega * bodies_[c].reach;
-    const double window_end = window_speed > 0.0 ? t + 0.5 * skin_ / window_speed : kNever;
+    const double window_end = window_speed > 0.0 ? t + 0.5 * keeper_.skin() / window_speed : kNever;
     near_wall_.clear();
     {
       const Pose& p = pose(c, t);
       const Vec<D> x = s_.origin(c, t);
       for (int i : k.members)
-        if (wall_gap(i, Vec<D>(x + bodies_.offset(i, c, p)), w) < skin_) near_wall_.push_back(i);
+        if (wall_gap(i, Vec<D>(x + bodies_.offset(i, c, p)), w) < keeper_.skin()) near_wall_.push_back(i);
     }
     const double horizon = calendar_.earliest_time();
     for (int steps = 0; !near_wall_.empty(); ++steps) {
@@ -677,7 +603,7 @@ class RigidBodyCore {
     const ImpactBody<D> wall;  // infinite mass, at rest
     const Impact<D> impact = collision_impulse(body, wall, n, {});
     if (impact.approaching) {
-      fold_drift(c, t);
+      keeper_.fold(c, t);
       bodies_.apply_impulse(s_, c, impact.impulse, lever, t);
       s_.add_wall_impulse(impact.impulse);  // the momentum budget (summary.json wall_impulse)
       forget_pose(c);
@@ -763,8 +689,8 @@ class RigidBodyCore {
             impact.denominator > 0.0 ? fmt::format("gain {:.3g} of kinetic energy", impact.energy_change)
                                      : std::string("pull the bodies together")));
       }
-      fold_drift(c, t);
-      fold_drift(d, t);
+      keeper_.fold(c, t);
+      keeper_.fold(d, t);
       bodies_.apply_impulse(s_, c, impact.impulse, lever_c, t);
       bodies_.apply_impulse(s_, d, Vec<D>(-impact.impulse), lever_d, t);
       forget_pose(c);
@@ -772,7 +698,7 @@ class RigidBodyCore {
     }
     s_.clusters[c].last_collision_time = s_.clusters[d].last_collision_time = t;
     // Both motions changed: c's predictions must see d's new list expiry.
-    rebuild_at_[d] = rebuild_time(d);
+    keeper_.renew_expiry(d);
     predict(c);
     predict(d, false, c);
   }
@@ -789,7 +715,7 @@ class RigidBodyCore {
     const int absorbed = std::min(s_.clusters[a].size(), s_.clusters[b].size());
     // The survivor is the larger body (RigidBodies::stick); its drift so far carries over.
     const int larger = s_.clusters[b].size() > s_.clusters[a].size() || (s_.clusters[b].size() == s_.clusters[a].size() && b < a) ? b : a;
-    const double slack = drift(larger, t);
+    const double slack = keeper_.drift(larger, t);
     const int keep = bodies_.stick(s_, i, j, t);
     const int gone = keep == a ? b : a;
     const std::int32_t* cluster = s_.spheres.cluster.data();
@@ -797,7 +723,7 @@ class RigidBodyCore {
     for (auto m = members.end() - absorbed; m != members.end(); ++m) grid_->set_tag(*m, keep);
     lists_.absorb(keep, gone, cluster);
     calendar_.forget(gone);
-    drift_[keep] = {Vec<D>::Zero(), slack, 0.0};
+    keeper_.restart(keep, slack);
     forget_pose(keep);
     forget_pose(gone);
     for (auto m = members.end() - absorbed; m != members.end(); ++m) {
@@ -834,7 +760,7 @@ class RigidBodyCore {
   // which a rigid body cannot resolve: the run stops there (StopReason::body_spans_box).
   void check_span(int c) {
     if (!s_.box.periodic()) return;
-    const double limit = 0.5 * (s_.box.length - skin_);
+    const double limit = 0.5 * (s_.box.length - keeper_.skin());
     auto too_big = [&](int b) { return bodies_[b].radius >= limit; };
     if (c >= 0) spans_box_ = spans_box_ || too_big(c);
     else for (int b : s_.alive_clusters()) spans_box_ = spans_box_ || too_big(b);
@@ -875,7 +801,7 @@ class RigidBodyCore {
   void fragment(int c, double released, double t) {
     const std::int32_t* cluster = s_.spheres.cluster.data();
     const std::vector<std::int32_t> members = s_.clusters[c].members;
-    const double slack = drift(c, t);
+    const double slack = keeper_.drift(c, t);
     for (int i : members) lists_.remove_all_pairs(i, cluster);
     const std::vector<std::int32_t> pieces = bodies_.fragment(s_, c, released, empty_, t);
     ++count_.fragmentations;
@@ -883,21 +809,21 @@ class RigidBodyCore {
       const int i = members[k], b = pieces[k];
       grid_->set_tag(i, b);
       forget_pose(b);
-      drift_[b] = {Vec<D>::Zero(), slack, 0.0};
+      keeper_.restart(b, slack);
       serial_[b] = next_serial_++;
       partner_[b] = -1;
       free_mass_ += s_.spheres.mass[i];
     }
     for (int i : members)
       for_each_foreign_near(i, t, [&](int j) { return !lists_.listed(i, j); }, [&](int j) { lists_.add_pair(i, j, cluster); });
-    for (int b : pieces) rebuild_at_[b] = rebuild_time(b);  // each piece's predictions see the others'
+    for (int b : pieces) keeper_.renew_expiry(b);  // each piece's predictions see the others'
     for (int b : pieces) predict(b);
   }
 
   State<D>& s_;
   RigidBodySettings law_;
-  double skin_;
   RigidBodies<D> bodies_;
+  NeighborKeeper<RotationDrift<D>> keeper_;  // the skin, drifts and list expiries
   std::unique_ptr<CellGrid<D>> grid_;
   NeighborLists lists_;
   EventCalendar calendar_;
@@ -908,8 +834,6 @@ class RigidBodyCore {
   std::vector<std::int32_t> near_wall_;
   std::vector<double> pose_time_;
   std::vector<Pose> pose_;
-  std::vector<Drift> drift_;
-  std::vector<double> rebuild_at_;
   std::vector<std::int64_t> serial_, partner_;        // body identities, for N_C1
   std::int64_t next_serial_ = 0;
   std::vector<std::int32_t> empty_;                   // ids of clusters without members
