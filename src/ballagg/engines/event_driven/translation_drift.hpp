@@ -25,6 +25,11 @@ class TranslationDrift {
 
   explicit TranslationDrift(const State<D>& s) : s_(&s) {}
 
+  // The displacement of cluster c's centre since the record's reference instant, at t.
+  Vec<D> displacement(const Record& r, int c, double t) const {
+    const Cluster<D>& k = s_->clusters[c];
+    return r.displacement_at_anchor + (t - k.anchor_time) * k.velocity;
+  }
   double drift(const Record& r, int c, double t) const { return r.slack + displacement(r, c, t).norm(); }
   Record folded(const Record& r, int c, double t) const { return {displacement(r, c, t), r.slack}; }
   Record reset(int c, double t) const {
@@ -60,11 +65,6 @@ class TranslationDrift {
   }
 
  private:
-  Vec<D> displacement(const Record& r, int c, double t) const {
-    const Cluster<D>& k = s_->clusters[c];
-    return r.displacement_at_anchor + (t - k.anchor_time) * k.velocity;
-  }
-
   const State<D>* s_;
 };
 

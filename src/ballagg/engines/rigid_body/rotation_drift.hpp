@@ -2,7 +2,7 @@
 // The drift bound of rigid bodies that translate and spin (the rigid-body engine): how far
 // a body's spheres may be from where they were binned is at most
 //     slack + |d| + reach min(2, turned),
-// d the centre's displacement since a reference instant, `turned` a bound on the angle the
+// slack + |d| the bound of the centre (TranslationDrift), `turned` a bound on the angle the
 // body has turned since then, and reach min(2, turned) the chord its farthest sphere can
 // have swept (never more than the diameter 2 reach). A single sphere sits at its body's
 // centre and only translates. (A drift bound of NeighborKeeper,
@@ -14,6 +14,7 @@
 #include "ballagg/collision/crossing.hpp"
 #include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/state.hpp"
+#include "ballagg/engines/event_driven/translation_drift.hpp"
 #include "ballagg/engines/rigid_body/rigid_bodies.hpp"
 
 namespace ballagg {
@@ -25,13 +26,11 @@ inline constexpr double kLargestChord = 2.0;
 template <int D>
 class RotationDrift {
  public:
-  struct Record {
-    Vec<D> displacement_at_anchor = Vec<D>::Zero();  // of the centre, since the reference instant
-    double slack = 0.0;                               // drift before the reference instant
-    double angle_at_anchor = 0.0;                     // bound on the rotation since then
+  struct Record : TranslationDrift<D>::Record {
+    double angle_at_anchor = 0.0;  // bound on the rotation since the reference instant
   };
 
-  RotationDrift(const State<D>& s, const RigidBodies<D>& bodies) : s_(&s), bodies_(&bodies) {}
+  RotationDrift(const State<D>& s, const RigidBodies<D>& bodies) : centre_(s), s_(&s), bodies_(&bodies) {}
 
   // Bound on body c's angular speed (0 for a single sphere, which does not move by turning).
   double spin_bound(int c) const {
@@ -39,14 +38,14 @@ class RotationDrift {
   }
 
   double drift(const Record& r, int c, double t) const {
-    return r.slack + displacement(r, c, t).norm() + (*bodies_)[c].reach * std::min(kLargestChord, turned(r, c, t));
+    return centre_.drift(r, c, t) + (*bodies_)[c].reach * std::min(kLargestChord, turned(r, c, t));
   }
-  Record folded(const Record& r, int c, double t) const { return {displacement(r, c, t), r.slack, turned(r, c, t)}; }
+  Record folded(const Record& r, int c, double t) const { return {centre_.folded(r, c, t), turned(r, c, t)}; }
   Record reset(int c, double t) const {
     const double dt = t - s_->clusters[c].anchor_time;
-    return {-dt * s_->clusters[c].velocity, 0.0, -dt * spin_bound(c)};
+    return {{-dt * s_->clusters[c].velocity, 0.0}, -dt * spin_bound(c)};
   }
-  Record restarted(double slack) const { return {Vec<D>::Zero(), slack, 0.0}; }
+  Record restarted(double slack) const { return {centre_.restarted(slack), 0.0}; }
 
   // When body c's drift may reach skin / 2. Two bounds of the drift, both valid: from
   // now on, the centre moving at most |V| tau and the farthest sphere turning at most
@@ -59,7 +58,7 @@ class RotationDrift {
     const double room = 0.5 * skin - d.slack;
     const double reach = (*bodies_)[c].reach, omega = spin_bound(c);
     double linear = -kNever;
-    const double used = displacement(d, c, now).norm() + reach * std::min(kLargestChord, turned(d, c, now));
+    const double used = centre_.displacement(d, c, now).norm() + reach * std::min(kLargestChord, turned(d, c, now));
     const double rate = k.velocity.norm() + reach * omega;
     if (rate > 0.0) linear = now + (room - used) / rate;
     else if (used < room) linear = kNever;
@@ -78,27 +77,20 @@ class RotationDrift {
   }
 
   void save(ByteWriter& w, const Record& r) const {
-    w.put(r.displacement_at_anchor);
-    w.put(r.slack);
+    centre_.save(w, r);
     w.put(r.angle_at_anchor);
   }
   Record restore(ByteReader& r) const {
-    Record d;
-    d.displacement_at_anchor = r.get<Vec<D>>("drift");
-    d.slack = r.get<double>("drift slack");
-    d.angle_at_anchor = r.get<double>("drift angle");
-    return d;
+    // Braced: the centre's fields are read before the angle.
+    return Record{centre_.restore(r), r.get<double>("drift angle")};
   }
 
  private:
-  Vec<D> displacement(const Record& r, int c, double t) const {
-    const Cluster<D>& k = s_->clusters[c];
-    return r.displacement_at_anchor + (t - k.anchor_time) * k.velocity;
-  }
   double turned(const Record& r, int c, double t) const {
     return r.angle_at_anchor + spin_bound(c) * (t - s_->clusters[c].anchor_time);
   }
 
+  TranslationDrift<D> centre_;  // the bound of the centre's displacement
   const State<D>* s_;
   const RigidBodies<D>* bodies_;
 };
