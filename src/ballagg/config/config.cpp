@@ -77,7 +77,7 @@ void refuse_unknown_sections(const toml::table& root, const std::string& source)
   }
 }
 
-// [system]
+// [system], every key of it checked.
 SystemConfig read_system(SectionReader& sys) {
   SystemConfig system_config;
   if (auto v = sys.integer("dimension", 2, 3, "must be 2 or 3")) system_config.dimension = static_cast<int>(*v);
@@ -99,10 +99,11 @@ SystemConfig read_system(SectionReader& sys) {
                              range::kMaxMass));
   if (mass) system_config.mass = *mass;
   if (auto v = sys.choice("boundary", {"walls", "periodic"})) system_config.boundary = static_cast<Boundary>(*v);
+  sys.reject_unknown_keys();
   return system_config;
 }
 
-// [initial]
+// [initial], every key of it checked.
 InitialConfig read_initial(SectionReader& ini) {
   InitialConfig initial_config;
   if (auto v = ini.choice("positions", {"lattice", "random", "file"})) initial_config.positions = static_cast<InitialPositions>(*v);
@@ -116,10 +117,11 @@ InitialConfig read_initial(SectionReader& ini) {
   if (auto v = ini.boolean("zero_momentum")) initial_config.zero_momentum = *v;
   if (auto v = ini.integer("seed", 0, std::numeric_limits<std::int64_t>::max(), "must be an integer >= 0"))
     initial_config.seed = static_cast<std::uint64_t>(*v);
+  ini.reject_unknown_keys();
   return initial_config;
 }
 
-// [stop]
+// [stop], every key of it checked.
 StopConfig read_stop(SectionReader& stop) {
   StopConfig stop_config;
   // The reader refuses values of another type; the range is check_stop_*'s, which
@@ -140,10 +142,11 @@ StopConfig read_stop(SectionReader& stop) {
   }
   stop_config.aggregated_fraction = stop.real("aggregated_fraction", [](double v) { return v > 0.0 && v <= 1.0; },
                                          "must be a number in (0, 1]");
+  stop.reject_unknown_keys();
   return stop_config;
 }
 
-// [output]
+// [output], every key of it checked.
 OutputConfig read_output(SectionReader& out) {
   OutputConfig output_config;
   if (auto v = out.real("timeseries_interval", [](double x) { return x >= 0.0; }, "must be a number >= 0 (0: none)"))
@@ -160,6 +163,7 @@ OutputConfig read_output(SectionReader& out) {
   if (auto v = out.real("checkpoint_every", [](double x) { return x >= 0.0; },
                         "must be a number of wall seconds >= 0 (0: checkpoints on SIGINT/SIGTERM only)"))
     output_config.checkpoint_every = *v;
+  out.reject_unknown_keys();
   return output_config;
 }
 
@@ -199,11 +203,9 @@ Config read_config(const toml::table& root, const std::string& source, const std
 
   SectionReader sys(root, "system", source, overridden);
   c.system = read_system(sys);
-  sys.reject_unknown_keys();
 
   SectionReader ini(root, "initial", source, overridden);
   c.initial = read_initial(ini);
-  ini.reject_unknown_keys();
 
   SectionReader col(root, "collision", source, overridden);
   if (auto v = col.choice("outcome", {"stick", "bounce", "energy-threshold"}))
@@ -223,11 +225,9 @@ Config read_config(const toml::table& root, const std::string& source, const std
 
   SectionReader stop(root, "stop", source, overridden);
   c.stop = read_stop(stop);
-  stop.reject_unknown_keys();
 
   SectionReader out(root, "output", source, overridden);
   c.output = read_output(out);
-  out.reject_unknown_keys();
 
   // Rules that involve several keys.
   check_rigid_body_rules(c, rigid_keys, restitution.has_value());
