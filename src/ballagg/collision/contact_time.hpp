@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "ballagg/collision/crossing.hpp"
 #include "ballagg/core/tolerances.hpp"
 #include "ballagg/core/vec.hpp"
 
@@ -11,12 +12,9 @@ namespace ballagg {
 inline constexpr double kNever = std::numeric_limits<double>::infinity();
 
 // dx = X_i - X_j and dv = V_i - V_j now; sigma = R_i + R_j. Returns the smallest t >= 0
-// with |dx + t dv| = sigma while the pair approaches, or kNever.
-//
-// (A.3) reads t = -(b + sqrt(disc)) / a with b = dx.dv, a = |dv|^2, c = |dx|^2 - sigma^2 and
-// disc = b^2 - a c. For a pair far apart compared to sigma that subtracts two nearly equal
-// numbers; the same root written as c / (-b + sqrt(disc)) has no cancellation, so we use it.
-// A pair overlapping by round-off (c <= 0) that still approaches touches now (t = 0).
+// with |dx + t dv| = sigma while the pair approaches, or kNever: the entry root of
+// crossing.hpp in its cancellation-free form. A pair overlapping by round-off (c <= 0)
+// that still approaches touches now (t = 0).
 template <int D>
 double contact_time(const Vec<D>& dx, const Vec<D>& dv, double sigma) {
   const double b = dx.dot(dv);
@@ -25,11 +23,11 @@ double contact_time(const Vec<D>& dx, const Vec<D>& dv, double sigma) {
   const double a = dv.squaredNorm();
   constexpr double k2 = tolerance::kApproach * tolerance::kApproach;
   if (b * b <= k2 * dx2 * a) return kNever;  // tangential up to round-off
-  const double c = dx2 - sigma * sigma;
-  if (c <= 0.0) return 0.0;
-  const double disc = b * b - a * c;
+  const crossing::Quadratic q{a, b, dx2 - sigma * sigma};
+  if (q.c <= 0.0) return 0.0;
+  const double disc = crossing::discriminant(q);
   if (disc < 0.0) return kNever;  // the trajectories miss
-  return c / (-b + std::sqrt(disc));
+  return crossing::entry(q, std::sqrt(disc));
 }
 
 }  // namespace ballagg

@@ -1,5 +1,5 @@
 #pragma once
-// Union–find over integer ids with path halving and union by size. Ids are reset one by
+// Union–find over integer ids with path halving (find) and union by size. Ids are reset one by
 // one (reset(id)), so a structure sized for every cluster can be reused cheaply by work
 // that touches only a few ids.
 #include <cstdint>
@@ -19,6 +19,13 @@ class DisjointSets {
     size_[id] = 1;
   }
 
+  // The root of id's set without shortening the path on the way, so that threads may ask
+  // together; union by size keeps paths O(log n) long.
+  int root(int id) const {
+    while (parent_[id] != id) id = parent_[id];
+    return id;
+  }
+
   int find(int id) {
     while (parent_[id] != id) {
       parent_[id] = parent_[parent_[id]];
@@ -28,9 +35,11 @@ class DisjointSets {
   }
 
   // Joins the sets of a and b; returns the new root.
-  int unite(int a, int b) {
-    a = find(a);
-    b = find(b);
+  int unite(int a, int b) { return unite_roots(find(a), find(b)); }
+
+  // Joins the sets whose roots are a and b: the larger (of equal sizes, the lower id)
+  // stays the root, which is returned.
+  int unite_roots(int a, int b) {
     if (a == b) return a;
     if (size_[a] < size_[b] || (size_[a] == size_[b] && b < a)) std::swap(a, b);
     parent_[b] = a;

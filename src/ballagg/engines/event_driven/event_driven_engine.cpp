@@ -14,16 +14,9 @@
 // predictions whatever the lists say). Pair predictions are therefore never cut off at a
 // rebuild horizon.
 //
-// Why the lists stay valid: a pair absent from the lists was farther apart than
-// sigma + skin at the later of its two clusters' last rebuilds, and since then each sphere
-// has moved at most skin / 2 from where it was binned, so the pair is still apart.
-//
-// How far a cluster's spheres may have moved (its drift) is bounded by slack + |d|, where
-// d is the cluster's displacement since a reference instant (walls and periodic wraps
-// included) and slack covers what happened before it. A rebuild sets both to zero. A
-// merge starts a new reference with the larger drift of the two as slack. Displacement
-// rather than path length means a big cluster rattling between walls, or bouncing to and
-// fro, does not rebuild its lists for nothing.
+// Why the lists stay valid, and when they expire: engines/event_driven/neighbor_keeper.hpp;
+// how far a cluster's spheres may have moved (its drift): translation_drift.hpp. A merge
+// starts a new reference instant with the larger drift of the two as slack.
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
 
 #include <algorithm>
@@ -33,12 +26,15 @@
 #include <optional>
 #include <span>
 
+#include "ballagg/collision/crossing.hpp"
 #include "ballagg/collision/prediction.hpp"
 #include "ballagg/collision/resolve.hpp"
 #include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/prefetch.hpp"
 #include "ballagg/engines/event_driven/event_calendar.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
+#include "ballagg/engines/event_driven/neighbor_keeper.hpp"
+#include "ballagg/engines/event_driven/translation_drift.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
 #include "ballagg/spatial/neighbor_lists.hpp"
 
@@ -52,8 +48,7 @@ class EventDrivenCore {
   EventDrivenCore(State<D>& state, const EventDrivenSettings& settings) : EventDrivenCore(state, settings, Sized{}) {
     const int n = s_.n_spheres();
     const int m = static_cast<int>(s_.clusters.size());
-    drift_.assign(m, Drift{});
-    rebuild_at_.assign(m, kNever);
+    keeper_.assign(m);
     lists_.reset(n, m);
     calendar_.reset(m);
     for (int i = 0; i < n; ++i) {
@@ -61,11 +56,11 @@ class EventDrivenCore {
       grid_.set_tag(i, sphere_[i].cluster);
     }
     for (int c = 0; c < m; ++c)
-      if (s_.clusters[c].alive()) reset_drift(c, s_.time);
+      if (s_.clusters[c].alive()) keeper_.reset(c, s_.time);
     for (int i = 0; i < n; ++i)
       for_each_foreign_near(i, s_.time, [&](int j) { return j > i; },
                             [&](int j) { lists_.add_pair(i, j, s_.spheres.cluster.data()); });
-    for (int c : s_.alive_clusters()) rebuild_at_[c] = rebuild_time(c);
+    for (int c : s_.alive_clusters()) keeper_.renew_expiry(c);
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) predict(c, /*skip_lower_clusters=*/true);
   }
@@ -79,7 +74,7 @@ class EventDrivenCore {
     ByteReader r(saved, "checkpoint of the ed engine");
     count_ = r.get<EngineCounters>("counters");
     loop_ = r.get<EventLoopState>("loop state");
-    if (r.get<double>("skin") != skin_) r.fail("neighbour-list skin differs from the configuration's");
+    if (r.get<double>("skin") != keeper_.skin()) r.fail("neighbour-list skin differs from the configuration's");
     if (r.get<std::int32_t>("sphere count") != n || r.get<std::int32_t>("cluster count") != m)
       r.fail("saved for another number of spheres or clusters");
     grid_.restore(r);
@@ -92,13 +87,7 @@ class EventDrivenCore {
                       : e.kind == EventKind::list_rebuild && e.a >= 0 && e.a < m;
       if (!ok) r.fail("an event that names no sphere or cluster");
     });
-    drift_.resize(m);
-    for (Drift& d : drift_) {
-      d.displacement_at_anchor = r.get<Vec<D>>("drift");
-      d.slack = r.get<double>("drift slack");
-    }
-    rebuild_at_ = r.get_vector<double>("rebuild times", m);
-    if (static_cast<int>(rebuild_at_.size()) != m) r.fail("rebuild times for another number of clusters");
+    keeper_.restore(r, m);
     r.expect_end();
   }
 
@@ -107,17 +96,13 @@ class EventDrivenCore {
     ByteWriter w;
     w.put(count_);
     w.put(loop_);
-    w.put(skin_);
+    w.put(keeper_.skin());
     w.put<std::int32_t>(s_.n_spheres());
     w.put<std::int32_t>(static_cast<std::int32_t>(s_.clusters.size()));
     grid_.save(w);
     lists_.save(w);
     calendar_.save(w);
-    for (const Drift& d : drift_) {
-      w.put(d.displacement_at_anchor);
-      w.put(d.slack);
-    }
-    w.put_vector(rebuild_at_);
+    keeper_.save(w);
     return w.take();
   }
 
@@ -144,21 +129,12 @@ class EventDrivenCore {
   // The members fixed by the settings and the state, and the sphere fields.
   struct Sized {};
   EventDrivenCore(State<D>& state, const EventDrivenSettings& settings, Sized)
-      : s_(state), law_(settings.collision), skin_(choose_skin(state, settings.skin)),
-        grid_(state.box, 2.0 * state.max_radius() + 1.5 * skin_, state.n_spheres()) {
+      : s_(state), law_(settings.collision),
+        keeper_(TranslationDrift<D>(state), fitted_skin(state, settings.skin, default_skin(state),
+                                                        SkinLimitRounding::divide_first)),
+        grid_(state.box, binning_cell_size(state, keeper_.skin()), state.n_spheres()) {
     sphere_.resize(s_.n_spheres());
     for (int i = 0; i < s_.n_spheres(); ++i) refresh_sphere(i);
-  }
-
-  // The requested skin, or default_skin(). Periodic boxes need every listed pair to be
-  // closer than half the box, so the skin shrinks in a small periodic box.
-  static double choose_skin(const State<D>& s, double requested) {
-    double skin = requested > 0.0 ? requested : default_skin(s);
-    if (s.box.periodic()) {
-      const double room = (0.5 * s.box.length - 2.0 * s.max_radius()) / 1.5;
-      skin = std::min(skin, 0.99 * room);
-    }
-    return skin;
   }
 
   bool valid(const Event& e) const {
@@ -170,56 +146,18 @@ class EventDrivenCore {
 
   // ---- neighbour lists -------------------------------------------------------------------
 
-  Vec<D> displacement(int c, double t) const {
-    const Cluster<D>& k = s_.clusters[c];
-    return drift_[c].displacement_at_anchor + (t - k.anchor_time) * k.velocity;
-  }
-  // Upper bound on how far any sphere of cluster c is from where it was binned.
-  double drift(int c, double t) const { return drift_[c].slack + displacement(c, t).norm(); }
-  // Must be called just before cluster c is re-anchored at t (velocity change).
-  void fold_drift(int c, double t) { drift_[c].displacement_at_anchor = displacement(c, t); }
-  void reset_drift(int c, double t) {
-    const Cluster<D>& k = s_.clusters[c];
-    drift_[c] = {-(t - k.anchor_time) * k.velocity, 0.0};
-  }
-
-  // When the drift of cluster c reaches skin / 2: the later root tau of
-  // |d0 + V tau| = skin / 2 - slack (tau from the anchor time). The cluster is within
-  // reach now, so the two roots bracket the present and the later one is the exit.
-  double rebuild_time(int c) const {
-    const Cluster<D>& k = s_.clusters[c];
-    const double a = k.velocity.squaredNorm();
-    if (a == 0.0) return kNever;
-    const Vec<D>& d0 = drift_[c].displacement_at_anchor;
-    const double reach = 0.5 * skin_ - drift_[c].slack;
-    const double b = d0.dot(k.velocity), cc = d0.squaredNorm() - reach * reach;
-    const double disc = b * b - a * cc;
-    if (reach <= 0.0 || disc < 0.0) return k.anchor_time;
-    const double root = std::sqrt(disc);
-    return k.anchor_time + (b <= 0.0 ? (root - b) / a : -cc / (b + root));
-  }
-
   // Calls found(j) for every foreign sphere j within sigma + skin of sphere i at time t
-  // for which wanted(j) holds (asked before the exact distance, which is dearer). The grid
-  // tags each sphere with its cluster, so i's own cluster is skipped there; it holds each
-  // sphere where it was binned, at most skin / 2 from where it is now, so spheres binned
-  // farther than R_i + R_max + 1.5 skin away are rejected at once.
+  // for which wanted(j) holds (neighbor_keeper.hpp).
   template <class Wanted, class Found>
   void for_each_foreign_near(int i, double t, Wanted&& wanted, Found&& found) const {
-    const int ci = sphere_[i].cluster;
     const Vec<D> xi = unwrapped_position(i, t);
-    const Vec<D> xi_folded = s_.box.wrap(xi);
-    const double ri = sphere_[i].radius;
-    const double binned_reach = ri + s_.max_radius() + 1.5 * skin_;
-    grid_.for_each_near_image(xi_folded, ci, [&](int j, const Vec<D>& binned) {
-      if ((xi_folded - binned).squaredNorm() >= binned_reach * binned_reach) return;
-      if (!wanted(j)) return;
-      if (within_reach(i, xi, j, t)) found(j);
-    });
+    ballagg::for_each_foreign_near(
+        grid_, s_, keeper_.skin(), sphere_[i].cluster, s_.box.wrap(xi), sphere_[i].radius, wanted,
+        [&](int j) { return within_reach(i, xi, j, t); }, found);
   }
 
   bool within_reach(int i, const Vec<D>& xi, int j, double t) const {
-    const double reach = sphere_[i].radius + sphere_[j].radius + skin_;
+    const double reach = sphere_[i].radius + sphere_[j].radius + keeper_.skin();
     return s_.box.separation(xi, unwrapped_position(j, t)).squaredNorm() < reach * reach;
   }
 
@@ -239,8 +177,8 @@ class EventDrivenCore {
     }
     // Re-bin, then list and predict the pairs that came into reach.
     for (int i : k.members) grid_.move(i, s_.box.wrap(unwrapped_position(i, t)));
-    reset_drift(c, t);
-    rebuild_at_[c] = rebuild_time(c);
+    keeper_.reset(c, t);
+    keeper_.renew_expiry(c);
     batch_.clear();
     for (int i : k.members) {
       for_each_foreign_near(i, t, [&](int j) { return !lists_.listed(i, j); }, [&](int j) {
@@ -248,7 +186,7 @@ class EventDrivenCore {
         if (auto e = pair_event(i, j)) batch_.push_back(*e);
       });
     }
-    if (rebuild_at_[c] < kNever) batch_.push_back({rebuild_at_[c], c, 0, k.stamp, 0, EventKind::list_rebuild});
+    if (keeper_.expiry(c) < kNever) batch_.push_back({keeper_.expiry(c), c, 0, k.stamp, 0, EventKind::list_rebuild});
     calendar_.file(c, batch_);
     count_.rebuilt_spheres += k.size();
     ++count_.list_rebuilds;
@@ -266,7 +204,7 @@ class EventDrivenCore {
     for (int j : partners) {
       const int d = sphere_[j].cluster;
       prefetch(&s_.clusters[d]);
-      prefetch(&rebuild_at_[d]);
+      prefetch(keeper_.expiry_address(d));
     }
   }
 
@@ -276,7 +214,7 @@ class EventDrivenCore {
   std::optional<Event> pair_event(int i, int j) {
     const SphereFields& si = sphere_[i];
     const SphereFields& sj = sphere_[j];
-    const double limit = std::min(rebuild_at_[si.cluster], rebuild_at_[sj.cluster]);
+    const double limit = std::min(keeper_.expiry(si.cluster), keeper_.expiry(sj.cluster));
     const double t = predicted_contact(s_.box, s_.clusters[si.cluster], si.offset, s_.clusters[sj.cluster], sj.offset,
                                        si.radius + sj.radius, s_.time, limit);
     ++count_.pair_predictions;
@@ -292,8 +230,8 @@ class EventDrivenCore {
     batch_.clear();
     const WallContact w = next_wall_contact(s_, c);
     if (w.time < kNever) batch_.push_back({w.time, c, w.axis, k.stamp, 0, EventKind::wall});
-    rebuild_at_[c] = rebuild_time(c);
-    if (rebuild_at_[c] < kNever) batch_.push_back({rebuild_at_[c], c, 0, k.stamp, 0, EventKind::list_rebuild});
+    keeper_.renew_expiry(c);
+    if (keeper_.expiry(c) < kNever) batch_.push_back({keeper_.expiry(c), c, 0, k.stamp, 0, EventKind::list_rebuild});
     for (int i : lists_.exposed(c)) {
       prefetch_partners(i);
       for (int j : lists_.partners(i)) {
@@ -309,7 +247,7 @@ class EventDrivenCore {
   // ---- event handlers --------------------------------------------------------------------
 
   EventRecord reflect(int c, int axis, double t) {
-    fold_drift(c, t);
+    keeper_.fold(c, t);
     reflect_cluster(s_, c, axis, t);
     predict(c);
     ++count_.wall_bounces;
@@ -321,8 +259,8 @@ class EventDrivenCore {
     EventRecord r{.time = t, .kind = EventKind::collision, .sphere_i = i, .sphere_j = j};
     const int a = s_.spheres.cluster[i], b = s_.spheres.cluster[j];
     if (law_.outcome == CollisionOutcome::bounce) {
-      fold_drift(a, t);
-      fold_drift(b, t);
+      keeper_.fold(a, t);
+      keeper_.fold(b, t);
       bounce_clusters(s_, i, j, t, law_);
       predict(a);
       predict(b, false, a);
@@ -344,7 +282,7 @@ class EventDrivenCore {
 
   int stick(int i, int j, double t) {
     const int a = s_.spheres.cluster[i], b = s_.spheres.cluster[j];
-    const double slack = std::max(drift(a, t), drift(b, t));
+    const double slack = std::max(keeper_.drift(a, t), keeper_.drift(b, t));
     const int absorbed = std::min(s_.clusters[a].size(), s_.clusters[b].size());
     const int keep = s_.merge(i, j, t);
     const int gone = keep == a ? b : a;
@@ -355,7 +293,7 @@ class EventDrivenCore {
     }
     lists_.absorb(keep, gone, s_.spheres.cluster.data());
     calendar_.forget(gone);
-    drift_[keep] = {Vec<D>::Zero(), slack};
+    keeper_.restart(keep, slack);
     ++count_.merges;
     return keep;
   }
@@ -392,18 +330,11 @@ class EventDrivenCore {
   State<D>& s_;
   CollisionSettings law_;
   std::vector<SphereFields> sphere_;
-  double skin_;
+  NeighborKeeper<TranslationDrift<D>> keeper_;  // the skin, drifts and list expiries
   CellGrid<D> grid_;
   NeighborLists lists_;
   EventCalendar calendar_;
   std::vector<Event> batch_;         // scratch for predict() and rebuild()
-  struct Drift {
-    Vec<D> displacement_at_anchor = Vec<D>::Zero();  // since the reference instant
-    double slack = 0.0;                               // drift before the reference instant
-  };
-  std::vector<Drift> drift_;
-  // rebuild_time(c) as of c's last prediction: every change of c is followed by predict(c).
-  std::vector<double> rebuild_at_;
   EngineCounters count_;
   EventLoopState loop_;
 };

@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "ballagg/collision/crossing.hpp"
 #include "ballagg/core/prefetch.hpp"
 
 namespace ballagg {
@@ -31,11 +32,11 @@ template <int D>
 double first_contact(const Vec<D>& B, const Vec<D>& V, double sigma) {
   const double b = B.dot(V);
   if (b >= 0.0) return kNoContact;  // not closing in: the distance only grows from here
-  const double c = B.squaredNorm() - sigma * sigma;
-  if (c <= 0.0) return 0.0;
-  const double a = V.squaredNorm(), disc = b * b - a * c;
+  const crossing::Quadratic q{V.squaredNorm(), b, B.squaredNorm() - sigma * sigma};
+  if (q.c <= 0.0) return 0.0;
+  const double disc = crossing::discriminant(q);
   if (disc < 0.0) return kNoContact;
-  return c / (-b + std::sqrt(disc));  // the smaller root of a t^2 + 2 b t + c, without cancellation
+  return crossing::entry(q, std::sqrt(disc));
 }
 
 // The sweep of one group, tau in [0, 1] the fraction of the step from its start. Cluster k

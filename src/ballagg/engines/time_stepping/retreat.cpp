@@ -5,6 +5,7 @@
 #include <utility>
 #include <vector>
 
+#include "ballagg/collision/crossing.hpp"
 #include "ballagg/core/parallel.hpp"
 
 namespace ballagg {
@@ -15,12 +16,12 @@ namespace {
 template <int D>
 std::pair<double, double> too_close(const Vec<D>& base, const Vec<D>& drift, double reach) {
   constexpr std::pair<double, double> kNever{1.0, 0.0}, kAlways{-1.0, 2.0};
-  const double a = drift.squaredNorm(), b = base.dot(drift), c = base.squaredNorm() - reach * reach;
-  if (a == 0.0) return c < 0.0 ? kAlways : kNever;
-  const double disc = b * b - a * c;
+  const crossing::Quadratic q = crossing::quadratic(base, Vec<D>(-drift), reach);
+  if (q.a == 0.0) return q.c < 0.0 ? kAlways : kNever;
+  const double disc = crossing::discriminant(q);
   if (disc <= 0.0) return kNever;
-  const double root = std::sqrt(disc);
-  return {(b - root) / a, (b + root) / a};
+  const crossing::Roots t = crossing::direct_roots(q, std::sqrt(disc));
+  return {t.entry, t.exit};
 }
 
 // The smallest theta >= 0 outside every open interval (above 1: none in [0, 1]).

@@ -11,8 +11,10 @@
 // retreats along its own.
 #include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
+#include "ballagg/core/disjoint_sets.hpp"
 #include "ballagg/engines/time_stepping/adhesive_set.hpp"
 
 namespace ballagg {
@@ -20,17 +22,11 @@ namespace ballagg {
 class StepBodies {
  public:
   explicit StepBodies(int n_cluster_ids = 0)
-      : parent_(n_cluster_ids), size_(n_cluster_ids, 1), clusters_(n_cluster_ids), links_(n_cluster_ids),
-        touched_mark_(n_cluster_ids, 0) {
-    for (int c = 0; c < n_cluster_ids; ++c) parent_[c] = c;
-  }
+      : sets_(n_cluster_ids), clusters_(n_cluster_ids), links_(n_cluster_ids), touched_mark_(n_cluster_ids, 0) {}
 
   // The body of cluster c, named by its root cluster. Does not modify the structure, so
   // threads may call it together (union by size keeps the paths short).
-  int body_of(int c) const {
-    while (parent_[c] != c) c = parent_[c];
-    return c;
-  }
+  int body_of(int c) const { return sets_.root(c); }
   // The clusters of a body (its root): the root alone when nothing was linked to it.
   std::vector<std::int32_t> clusters_of(int body) const {
     if (clusters_[body].empty()) return {body};
@@ -44,9 +40,7 @@ class StepBodies {
     touch(a);
     touch(b);
     if (a != b) {
-      if (size_[a] < size_[b] || (size_[a] == size_[b] && b < a)) std::swap(a, b);
-      parent_[b] = a;
-      size_[a] += size_[b];
+      if (sets_.unite_roots(a, b) == b) std::swap(a, b);
       append(clusters_[b], clusters_[a]);
       append(links_[b], links_[a]);
     }
@@ -59,8 +53,7 @@ class StepBodies {
     links.swap(links_[body]);
     const std::vector<std::int32_t> clusters = clusters_of(body);
     for (int c : clusters) {
-      parent_[c] = c;
-      size_[c] = 1;
+      sets_.reset(c);
       clusters_[c].assign(1, c);
       links_[c].clear();
     }
@@ -72,7 +65,7 @@ class StepBodies {
   std::vector<SpherePair> all_links() const {
     std::vector<std::int32_t> roots;
     for (int c : touched_)
-      if (parent_[c] == c) roots.push_back(c);
+      if (sets_.root(c) == c) roots.push_back(c);
     std::sort(roots.begin(), roots.end());
     std::vector<SpherePair> out;
     for (int r : roots) out.insert(out.end(), links_[r].begin(), links_[r].end());
@@ -82,8 +75,7 @@ class StepBodies {
   // Every cluster back to a body of its own, at the cost of what the step touched.
   void clear() {
     for (int c : touched_) {
-      parent_[c] = c;
-      size_[c] = 1;
+      sets_.reset(c);
       clusters_[c].clear();
       links_[c].clear();
       touched_mark_[c] = 0;
@@ -104,7 +96,7 @@ class StepBodies {
     from.clear();
   }
 
-  std::vector<std::int32_t> parent_, size_;
+  DisjointSets sets_;                                // the bodies, as sets of cluster ids
   std::vector<std::vector<std::int32_t>> clusters_;  // per root: its clusters (empty: just itself)
   std::vector<std::vector<SpherePair>> links_;       // per root: its links
   std::vector<std::int32_t> touched_;                // clusters whose entries are not pristine

@@ -1,0 +1,152 @@
+// The resolved configuration as text: TOML (config.toml) and JSON (summary.json).
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <toml++/toml.h>
+
+#include "ballagg/config/config.hpp"
+
+namespace ballagg {
+
+namespace {
+
+// The resolved configuration as ordered sections of (key, value), the single source of
+// both the TOML and the JSON rendering.
+using Value = std::variant<std::int64_t, double, bool, std::string, std::vector<std::string>>;
+using Section = std::pair<std::string, std::vector<std::pair<std::string, Value>>>;
+
+std::vector<Section> entries(const Config& c) {
+  auto str = [](std::string_view v) { return Value(std::string(v)); };
+  Section system{"system", {{"dimension", std::int64_t{c.system.dimension}}, {"n", c.system.n}}};
+  if (c.system.volume_fraction) system.second.push_back({"volume_fraction", *c.system.volume_fraction});
+  if (c.system.box_length) system.second.push_back({"box_length", *c.system.box_length});
+  system.second.push_back({"radius", c.system.radius});
+  system.second.push_back({"mass", c.system.mass});
+  system.second.push_back({"boundary", str(to_string(c.system.boundary))});
+  Section initial{"initial",
+                  {{"positions", str(to_string(c.initial.positions))},
+                   {"velocities", str(to_string(c.initial.velocities))},
+                   {"speed", c.initial.speed}}};
+  if (!c.initial.file.empty()) initial.second.push_back({"file", c.initial.file});
+  initial.second.push_back({"zero_momentum", c.initial.zero_momentum});
+  initial.second.push_back({"seed", static_cast<std::int64_t>(c.initial.seed)});
+  Section collision{"collision", {{"outcome", str(to_string(c.collision.outcome))}, {"restitution", c.collision.restitution}}};
+  if (c.collision.tc_time) collision.second.push_back({"tc_time", *c.collision.tc_time});
+  const bool rigid = c.engine.kind == EngineKind::rigid_body;
+  if (rigid) {
+    const CollisionConfig& k = c.collision;
+    auto& keys = collision.second;
+    keys.push_back({"coagulation", str(to_string(k.coagulation))});
+    if (k.coagulation == Coagulation::sphere) {
+      keys.push_back({"merged_radius", str(to_string(k.merged_radius))});
+      keys.push_back({"constant_speed", k.constant_speed});
+    }
+    keys.push_back({"restitution_law", str(to_string(k.restitution_law))});
+    if (k.restitution_law == RestitutionLaw::bridges) {
+      std::erase_if(keys, [](const auto& kv) { return kv.first == "restitution"; });
+      keys.push_back({"velocity_unit", k.velocity_unit});
+    }
+    keys.push_back({"mu_t", k.mu_t});
+    if (c.system.dimension == 3) keys.push_back({"mu_p", k.mu_p});
+    if (k.energy_threshold) keys.push_back({"energy_threshold", *k.energy_threshold});
+    if (k.fragmentation_energy) keys.push_back({"fragmentation_energy", *k.fragmentation_energy});
+  }
+  Section engine{"engine", {{"kind", str(to_string(c.engine.kind))}}};
+  if (c.engine.skin) engine.second.push_back({"skin", *c.engine.skin});
+  const TimeSteppingSettings& t = c.ts;
+  Section ts{"ts",
+             {{"model", str(to_string(t.model))},
+              {"dt_rule", str(to_string(t.dt_rule))},
+              {"fall_back", str(to_string(t.fall_back))},
+              {"dt_factor", t.dt_factor},
+              {"dt_growth", t.dt_growth}}};
+  if (t.delta_w) ts.second.push_back({"delta_w", *t.delta_w});
+  ts.second.push_back({"bond_stretch", t.bond_stretch});
+  const DahaParameters& d = t.daha;
+  for (auto&& [key, value] : std::initializer_list<std::pair<const char*, double>>{
+           {"alpha", d.alpha}, {"gamma", d.gamma}, {"delta", d.delta}, {"c_bar", d.c_bar}, {"c_min", d.c_min}, {"c_max", d.c_max},
+           {"beta_bar", d.beta_bar}, {"beta_max", d.beta_max}, {"lambda0", d.lambda0}, {"eps_s", d.eps_s},
+           {"eps_c", d.eps_c}})
+    ts.second.push_back({key, value});
+  ts.second.push_back({"max_iterations", std::int64_t{d.max_iterations}});
+  ts.second.push_back({"stall_iterations", std::int64_t{d.stall_iterations}});
+  ts.second.push_back({"max_link_rounds", std::int64_t{t.max_link_rounds}});
+  ts.second.push_back({"retreat_overlap", t.retreat_overlap});
+  ts.second.push_back({"retreat_pairs", std::int64_t{t.retreat_pairs}});
+  ts.second.push_back({"sweep_reuse_margin", t.sweep_reuse_margin});
+  Section stop{"stop", {{"clusters", c.stop.clusters}, {"time", c.stop.time}, {"wall_seconds", c.stop.wall_seconds}}};
+  if (c.stop.aggregated_fraction) stop.second.push_back({"aggregated_fraction", *c.stop.aggregated_fraction});
+  std::vector<std::string> formats;
+  for (SnapshotFormat f : c.output.snapshot_formats) formats.emplace_back(to_string(f));
+  Section output{"output",
+                 {{"timeseries_interval", c.output.timeseries_interval},
+                  {"xyz", c.output.xyz},
+                  {"snapshot_every", c.output.snapshot_every},
+                  {"snapshot_formats", formats},
+                  {"snapshot_precision", str(to_string(c.output.snapshot_precision))},
+                  {"checkpoint_every", c.output.checkpoint_every}}};
+  // Written when set only: the configuration files of runs without it stay as they were.
+  if (c.output.h5md_pad_3d) output.second.push_back({"h5md_pad_3d", true});
+  if (c.engine.kind != EngineKind::ts) return {system, initial, collision, engine, stop, output};
+  return {system, initial, collision, engine, ts, stop, output};
+}
+
+std::string toml_value(const Value& v) {
+  if (auto i = std::get_if<std::int64_t>(&v)) return fmt::format("{}", *i);
+  if (auto b = std::get_if<bool>(&v)) return *b ? "true" : "false";
+  if (auto d = std::get_if<double>(&v)) {
+    if (std::isinf(*d)) return *d > 0 ? "inf" : "-inf";
+    std::string text = fmt::format("{}", *d);  // shortest form that reads back exactly
+    if (text.find_first_of(".e") == std::string::npos) text += ".0";
+    return text;
+  }
+  if (auto list = std::get_if<std::vector<std::string>>(&v)) {
+    std::string text = "[";
+    for (const std::string& item : *list) text += (text.size() > 1 ? ", " : "") + toml_value(item);
+    return text + "]";
+  }
+  std::string quoted = "\"";
+  for (char ch : std::get<std::string>(v)) {
+    if (ch == '"' || ch == '\\') quoted += '\\';
+    if (static_cast<unsigned char>(ch) < 0x20) quoted += fmt::format("\\u{:04x}", static_cast<int>(ch));
+    else quoted += ch;
+  }
+  return quoted + "\"";
+}
+
+}  // namespace
+
+std::string to_toml_text(const Config& c) {
+  std::string out;
+  for (const auto& [section, keys] : entries(c)) {
+    out += fmt::format("{}[{}]\n", out.empty() ? "" : "\n", section);
+    for (const auto& [key, value] : keys) out += fmt::format("{} = {}\n", key, toml_value(value));
+  }
+  return out;
+}
+
+std::string to_json_text(const Config& c) {
+  nlohmann::ordered_json j = nlohmann::ordered_json::object();
+  for (const auto& [section, keys] : entries(c)) {
+    nlohmann::ordered_json& js = j[section];
+    js = nlohmann::ordered_json::object();
+    for (const auto& entry : keys) {
+      const auto& key = entry.first;  // not a structured binding: clang 14 cannot capture one in a lambda
+      std::visit([&](const auto& v) {
+        using T = std::decay_t<decltype(v)>;
+        if constexpr (std::is_same_v<T, double>) {
+          if (std::isinf(v)) { js[key] = nullptr; return; }  // JSON has no infinity
+        }
+        js[key] = v;
+      }, entry.second);
+    }
+  }
+  return j.dump(2);
+}
+
+}  // namespace ballagg

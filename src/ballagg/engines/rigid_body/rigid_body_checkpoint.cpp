@@ -1,0 +1,97 @@
+// The rigid-body engine in a checkpoint: what it saves, and the core restored from it.
+#include "ballagg/engines/rigid_body/rigid_body_core.hpp"
+
+#include "ballagg/core/byte_stream.hpp"
+
+namespace ballagg {
+
+template <int D>
+RigidBodyCore<D>::RigidBodyCore(State<D>& state, const RigidBodySettings& settings, std::string_view saved)
+    : s_(state), law_(settings), keeper_(RotationDrift<D>(state, bodies_), 0.0), resumed_(true) {
+  const int n = s_.n_spheres();
+  const int m = static_cast<int>(s_.clusters.size());
+  ByteReader r(saved, "checkpoint of the rigid-body engine");
+  count_ = r.get<EngineCounters>("counters");
+  loop_ = r.get<EventLoopState>("loop state");
+  keeper_.set_skin(r.get<double>("skin"));
+  if (!(std::isfinite(keeper_.skin()) && keeper_.skin() > 0.0)) r.fail("neighbour-list skin not a positive number");
+  if (r.get<std::int32_t>("sphere count") != n || r.get<std::int32_t>("cluster count") != m)
+    r.fail("saved for another number of spheres or clusters");
+  s_.spin.resize(m);
+  for (ClusterSpin<D>& w : s_.spin) {
+    w.angular_velocity = r.get<Spin<D>>("angular velocity");
+    w.angular_momentum = r.get<Spin<D>>("angular momentum");
+  }
+  bodies_.restore(r, m, n);
+  grid_ = std::make_unique<CellGrid<D>>(s_.box, binning_cell_size(s_, keeper_.skin()), n);
+  if (r.get<double>("cell size") != grid_->cell_size()) r.fail("cell grid for another largest radius or skin");
+  grid_->restore(r);
+  lists_.reset(n, m);
+  lists_.restore(r);
+  calendar_.reset(m);
+  calendar_.restore(r, [&](const Event& e) {
+    const bool ok = e.kind == EventKind::collision        ? e.a >= 0 && e.a < e.b && e.b < n
+                    : e.kind == EventKind::wall           ? e.a >= 0 && e.a < n && e.b >= 0 && e.b < 2 * D
+                    : e.kind == EventKind::contact_search ? e.a >= 0 && e.a < m && e.b >= -2 * D && e.b < m && e.b != e.a
+                    : e.kind == EventKind::list_rebuild && e.a >= 0 && e.a < m;
+    if (!ok) r.fail("an event that names no sphere, body or wall");
+  });
+  pose_time_ = r.get_vector<double>("pose times", m);
+  pose_.resize(m);
+  for (Pose& p : pose_) {
+    p.rotation = r.get<Rotation<D>>("pose");
+    p.angular_velocity = r.get<Spin<D>>("pose");
+  }
+  keeper_.restore(r, m);
+  serial_ = r.get_vector<std::int64_t>("body serials", m);
+  partner_ = r.get_vector<std::int64_t>("body partners", m);
+  next_serial_ = r.get<std::int64_t>("next serial");
+  empty_ = r.get_vector<std::int32_t>("empty clusters", m);
+  for (std::int32_t c : empty_)
+    if (c < 0 || c >= m || s_.clusters[c].alive()) r.fail("an empty cluster that is not empty");
+  merged_sphere_ = r.get_vector<char>("merged spheres", n);
+  free_mass_ = r.get<double>("free mass");
+  total_mass_ = r.get<double>("total mass");
+  spans_box_ = r.get<std::uint8_t>("spans box") != 0;
+  if (static_cast<int>(pose_time_.size()) != m || static_cast<int>(serial_.size()) != m || static_cast<int>(partner_.size()) != m ||
+      static_cast<int>(merged_sphere_.size()) != n)
+    r.fail("per-body or per-sphere arrays of another length");
+  r.expect_end();
+}
+
+template <int D>
+std::string RigidBodyCore<D>::save() const {
+  const int m = static_cast<int>(s_.clusters.size());
+  ByteWriter w;
+  w.put(count_);
+  w.put(loop_);
+  w.put(keeper_.skin());
+  w.put<std::int32_t>(s_.n_spheres());
+  w.put<std::int32_t>(m);
+  for (const ClusterSpin<D>& c : s_.spin) w.put(c.angular_velocity), w.put(c.angular_momentum);
+  bodies_.save(w);
+  w.put(grid_->cell_size());
+  grid_->save(w);
+  lists_.save(w);
+  calendar_.save(w);
+  w.put_vector(pose_time_);
+  for (const Pose& p : pose_) w.put(p.rotation), w.put(p.angular_velocity);
+  keeper_.save(w);
+  w.put_vector(serial_);
+  w.put_vector(partner_);
+  w.put(next_serial_);
+  w.put_vector(empty_);
+  w.put_vector(merged_sphere_);
+  w.put(free_mass_);
+  w.put(total_mass_);
+  w.put<std::uint8_t>(spans_box_);
+  return w.take();
+}
+
+
+template RigidBodyCore<2>::RigidBodyCore(State<2>&, const RigidBodySettings&, std::string_view);
+template RigidBodyCore<3>::RigidBodyCore(State<3>&, const RigidBodySettings&, std::string_view);
+template std::string RigidBodyCore<2>::save() const;
+template std::string RigidBodyCore<3>::save() const;
+
+}  // namespace ballagg
