@@ -323,8 +323,12 @@ TEST(AnalyzeCli, StateOutsideTheConfiguredBoxIsBadInput) {
 }
 
 TEST(PlotCli, DrawsTheFiguresOfASweep) {
+  // 100 and 144 discs: the smallest boxes with three box-counting levels, so that D_f is
+  // reported (with 16 and 25 it is withheld and its figure is not drawn).
   TempDir dir;
-  run_tiny_sweep(dir / "sweep");
+  std::string text = kTinySweep;
+  text.replace(text.find("[16, 25]"), 8, "[100, 144]");
+  run_tiny_sweep(dir / "sweep", false, text.c_str());
   const auto o = run_ballagg({"plot", (dir / "sweep").string()}, dir.path());
   ASSERT_EQ(o.status, 0) << o.err;
   for (const char* f : {"wall_time.png", "contacts.png", "pair_distribution.png", "box_counting.png",
