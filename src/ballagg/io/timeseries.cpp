@@ -7,6 +7,7 @@
 
 #include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/input_error.hpp"
+#include "ballagg/io/output_count.hpp"
 
 namespace ballagg {
 
@@ -136,13 +137,8 @@ void TimeseriesRecorder<D>::restore(std::string_view saved) {
 }
 
 void check_timeseries_rows(double interval, double start_time, double stop_time) {
-  if (!(interval > 0.0) || !std::isfinite(stop_time)) return;
-  const double rows = (stop_time - start_time) / interval;
-  constexpr std::int64_t limit = TimeseriesRecorder<2>::kMaxIntervalRows;
-  if (rows > static_cast<double>(limit))
-    throw InputError(fmt::format("output.timeseries_interval = {}: {:.3g} rows from t = {} to stop.time = {}; at most {} "
-                                 "are allowed (use a larger interval)",
-                                 interval, rows, start_time, stop_time, limit));
+  check_output_count("output.timeseries_interval", interval, start_time, stop_time,
+                     TimeseriesRecorder<2>::kMaxIntervalRows, "rows");
 }
 
 template class TimeseriesRecorder<2>;

@@ -8,6 +8,7 @@
 #include "ballagg/core/byte_stream.hpp"
 #include "ballagg/io/gsd_writer.hpp"
 #include "ballagg/io/h5md_writer.hpp"
+#include "ballagg/io/output_count.hpp"
 #include "ballagg/io/xyz_trajectory_writer.hpp"
 
 namespace ballagg {
@@ -137,13 +138,7 @@ std::unique_ptr<SnapshotRecorder<D>> make_snapshot_recorder(const Config& c, con
 }
 
 void check_snapshot_frames(double every, double start_time, double stop_time) {
-  if (!(every > 0.0) || !std::isfinite(stop_time)) return;
-  const double frames = (stop_time - start_time) / every;
-  constexpr std::int64_t limit = SnapshotRecorder<2>::kMaxFrames;
-  if (frames > static_cast<double>(limit))
-    throw InputError(fmt::format("output.snapshot_every = {}: {:.3g} frames from t = {} to stop.time = {}; at most {} "
-                                 "are allowed (use a larger interval)",
-                                 every, frames, start_time, stop_time, limit));
+  check_output_count("output.snapshot_every", every, start_time, stop_time, SnapshotRecorder<2>::kMaxFrames, "frames");
 }
 
 template class SnapshotRecorder<2>;
