@@ -8,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "ballagg/core/disjoint_sets.hpp"
 #include "ballagg/core/prefetch.hpp"
 
 namespace ballagg {
@@ -59,14 +60,13 @@ class FlightSweep {
     a_.resize(n);
     v_.resize(n);
     epoch_.assign(n, 0);
-    root_.resize(n);
+    bodies_ = DisjointSets(static_cast<int>(n));
     members_.resize(n);
     frozen_.assign(n, 0);
     outside_kept_.resize(n);  // per cluster, its pieces when it is first searched
     for (std::size_t k = 0; k < n; ++k) {
       v_[k] = ctx.flight[clusters_[k].first];
       a_[k] = -v_[k];
-      root_[k] = static_cast<int>(k);
       members_[k] = {static_cast<int>(k)};
     }
   }
@@ -92,10 +92,7 @@ class FlightSweep {
     const auto it = std::lower_bound(index_.begin(), index_.end(), std::pair<std::int32_t, std::int32_t>{cluster, -1});
     return it != index_.end() && it->first == cluster ? it->second : -1;
   }
-  int root(int k) const {
-    while (root_[k] != k) k = root_[k];
-    return k;
-  }
+  int root(int k) { return bodies_.find(k); }
   Vec<D> end_of_flight(int i) const { return ctx_.positions[i] - ctx_.step_shift[i]; }
   Vec<D> displacement(int k, double tau) const { return a_[k] + tau * v_[k]; }
   const std::vector<int>& spheres(int k) const { return s_.clusters[clusters_[k].first].members; }
@@ -132,7 +129,7 @@ class FlightSweep {
   void set_velocity(int body, const Vec<D>& v, double tau);
   int merge(int k, int m, double tau);
   void stop(int k, double tau);
-  bool valid(const Event& e) const;
+  bool valid(const Event& e);
 
   const ProblemContext<D>& ctx_;
   const State<D>& s_;
@@ -143,7 +140,7 @@ class FlightSweep {
   std::vector<std::pair<std::int32_t, std::int32_t>> index_;           // (cluster, k), sorted
   std::vector<Vec<D>> a_, v_;
   std::vector<int> epoch_;              // per cluster: bumped when its motion changes
-  std::vector<int> root_;               // union-find of the bodies of the sweep
+  DisjointSets bodies_;                 // the bodies of the sweep, sets of clusters (k)
   std::vector<std::vector<int>> members_;  // per root: its clusters
   std::vector<char> frozen_;            // per root: stopped against a sphere outside or a wall
   std::priority_queue<Event, std::vector<Event>, std::greater<Event>> events_;
@@ -372,12 +369,11 @@ void FlightSweep<D>::set_velocity(int body, const Vec<D>& v, double tau) {
 // (none, when either has stopped). Returns the new body.
 template <int D>
 int FlightSweep<D>::merge(int k, int m, double tau) {
-  int big = root(k), small = root(m);
-  // Whichever side the contact was found from, the same body keeps the same order of
-  // members (the order of the sum below).
-  if (members_[big].size() < members_[small].size() || (members_[big].size() == members_[small].size() && small < big))
-    std::swap(big, small);
-  root_[small] = big;
+  const int a = root(k), b = root(m);
+  // The larger body, or of two equal ones the lower index, absorbs the other (union by
+  // size counts clusters, as members_ does): whichever side the contact was found from,
+  // the same body keeps the same order of members (the order of the sum below).
+  const int big = bodies_.unite(a, b), small = big == a ? b : a;
   members_[big].insert(members_[big].end(), members_[small].begin(), members_[small].end());
   members_[small].clear();
   frozen_[big] = frozen_[big] || frozen_[small];
@@ -401,7 +397,7 @@ void FlightSweep<D>::stop(int k, double tau) {
 }
 
 template <int D>
-bool FlightSweep<D>::valid(const Event& e) const {
+bool FlightSweep<D>::valid(const Event& e) {
   if (epoch_[e.k] != e.ek) return false;
   return e.m < 0 || (epoch_[e.m] == e.em && root(e.k) != root(e.m));
 }
