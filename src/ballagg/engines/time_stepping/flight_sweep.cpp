@@ -46,7 +46,7 @@ double first_contact(const Vec<D>& B, const Vec<D>& V, double sigma) {
 template <int D>
 class FlightSweep {
  public:
-  FlightSweep(const ProblemContext<D>& ctx, const CollisionGroup& g)
+  FlightSweep(const StepView<D>& ctx, const CollisionGroup& g)
       : ctx_(ctx),
         s_(ctx.state),
         queried_(ctx, g, std::numeric_limits<int>::max()),
@@ -131,7 +131,7 @@ class FlightSweep {
   void stop(int k, double tau);
   bool valid(const Event& e);
 
-  const ProblemContext<D>& ctx_;
+  const StepView<D>& ctx_;
   const State<D>& s_;
   const QueriedClusters<D> queried_;
   const std::vector<std::pair<std::int32_t, std::int32_t>>& clusters_;  // (cluster, body) of the group
@@ -471,7 +471,7 @@ GroupSolution<D> FlightSweep<D>::run(Retreat<D> retreat) {
 }  // namespace
 
 template <int D>
-GroupSolution<D> keep_flight(const ProblemContext<D>& ctx, const CollisionGroup& group) {
+GroupSolution<D> keep_flight(const StepView<D>& ctx, const CollisionGroup& group) {
   Retreat<D> retreat = retreat_group(ctx, group, true);
   // Nothing to sweep when the group is back at the start of the step (most retreats of a
   // large run) or where free flight put it: the sweep's set-up (the group's bounding
@@ -481,7 +481,7 @@ GroupSolution<D> keep_flight(const ProblemContext<D>& ctx, const CollisionGroup&
   return sweep.run(std::move(retreat));
 }
 
-template GroupSolution<2> keep_flight<2>(const ProblemContext<2>&, const CollisionGroup&);
-template GroupSolution<3> keep_flight<3>(const ProblemContext<3>&, const CollisionGroup&);
+template GroupSolution<2> keep_flight<2>(const StepView<2>&, const CollisionGroup&);
+template GroupSolution<3> keep_flight<3>(const StepView<3>&, const CollisionGroup&);
 
 }  // namespace ballagg

@@ -23,9 +23,9 @@
 namespace ballagg {
 
 template <int D>
-GroupSolution<D> keep_flight(const ProblemContext<D>& ctx, const CollisionGroup& group);
+GroupSolution<D> keep_flight(const StepView<D>& ctx, const CollisionGroup& group);
 
-extern template GroupSolution<2> keep_flight<2>(const ProblemContext<2>&, const CollisionGroup&);
-extern template GroupSolution<3> keep_flight<3>(const ProblemContext<3>&, const CollisionGroup&);
+extern template GroupSolution<2> keep_flight<2>(const StepView<2>&, const CollisionGroup&);
+extern template GroupSolution<3> keep_flight<3>(const StepView<3>&, const CollisionGroup&);
 
 }  // namespace ballagg

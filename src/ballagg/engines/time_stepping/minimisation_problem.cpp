@@ -21,7 +21,7 @@ std::uint64_t key(int i, int j) {
 }
 
 template <int D>
-DahaPair<D> make_pair(const ProblemContext<D>& ctx, int i, int j, int a, int b, double lambda) {
+DahaPair<D> make_pair(const StepView<D>& ctx, int i, int j, int a, int b, double lambda) {
   const State<D>& s = ctx.state;
   DahaPair<D> q;
   q.a = a;
@@ -55,7 +55,7 @@ constexpr double kGuardGap = 1.0;
 // the paper's Remark 3.2). Spheres of larger clusters are not guarded (they move little;
 // see for_each_neighbour_of_group).
 template <int D>
-void add_guards(const ProblemContext<D>& ctx, const CollisionGroup& g, int fixed, DahaProblem<D>& prob,
+void add_guards(const StepView<D>& ctx, const CollisionGroup& g, int fixed, DahaProblem<D>& prob,
                 std::vector<SpherePair>& sphere_pairs) {
   const State<D>& s = ctx.state;
   const double gap = kGuardGap * 2.0 * s.max_radius();
@@ -100,7 +100,7 @@ void add_guards(const ProblemContext<D>& ctx, const CollisionGroup& g, int fixed
 // touches it, and not at all into a wall it already pokes through (the next step moves it
 // back). A variable wider than the box along an axis is left free along it.
 template <int D>
-void bound_by_walls(const ProblemContext<D>& ctx, const std::vector<Vec<D>>& lo, const std::vector<Vec<D>>& hi,
+void bound_by_walls(const StepView<D>& ctx, const std::vector<Vec<D>>& lo, const std::vector<Vec<D>>& hi,
                     DahaProblem<D>& prob) {
   const Box<D>& box = ctx.state.box;
   if (box.periodic()) return;
@@ -131,7 +131,7 @@ std::vector<SpherePair> touching_pairs(const DahaProblem<D>& prob, const std::ve
 
 // Rigid model: one variable per body, of the body's mass.
 template <int D>
-GroupSolution<D> solve_rigid(const ProblemContext<D>& ctx, const CollisionGroup& g) {
+GroupSolution<D> solve_rigid(const StepView<D>& ctx, const CollisionGroup& g) {
   const State<D>& s = ctx.state;
   const auto clusters = clusters_of_group(ctx, g);
   DahaProblem<D> prob;
@@ -191,7 +191,7 @@ GroupSolution<D> solve_rigid(const ProblemContext<D>& ctx, const CollisionGroup&
 // round: links opened by 100 diameters at N = 100), and from cluster to cluster across the
 // pairs of S and the links that join them.
 template <int D>
-std::vector<Vec<D>> unwrapped_starts(const ProblemContext<D>& ctx, const CollisionGroup& g,
+std::vector<Vec<D>> unwrapped_starts(const StepView<D>& ctx, const CollisionGroup& g,
                                      const std::vector<std::pair<std::int32_t, std::int32_t>>& clusters,
                                      const std::unordered_map<int, int>& local, int n_spheres) {
   const State<D>& s = ctx.state;
@@ -229,7 +229,7 @@ std::vector<Vec<D>> unwrapped_starts(const ProblemContext<D>& ctx, const Collisi
 // the old links and on every pair close enough to come into contact; attraction over all
 // pairs (non-rigid) or over the pairs within Delta_W (almost-rigid).
 template <int D>
-GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionGroup& g) {
+GroupSolution<D> solve_per_sphere(const StepView<D>& ctx, const CollisionGroup& g) {
   const State<D>& s = ctx.state;
   const auto clusters = clusters_of_group(ctx, g);
   std::vector<int> spheres;
@@ -355,12 +355,12 @@ GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionG
 }  // namespace
 
 template <int D>
-GroupSolution<D> solve_group(const ProblemContext<D>& ctx, const CollisionGroup& group) {
+GroupSolution<D> solve_group(const StepView<D>& ctx, const CollisionGroup& group) {
   if (ctx.settings.model == TsModel::rigid) return solve_rigid(ctx, group);
   return solve_per_sphere(ctx, group);
 }
 
-template GroupSolution<2> solve_group<2>(const ProblemContext<2>&, const CollisionGroup&);
-template GroupSolution<3> solve_group<3>(const ProblemContext<3>&, const CollisionGroup&);
+template GroupSolution<2> solve_group<2>(const StepView<2>&, const CollisionGroup&);
+template GroupSolution<3> solve_group<3>(const StepView<3>&, const CollisionGroup&);
 
 }  // namespace ballagg

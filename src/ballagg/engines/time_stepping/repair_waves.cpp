@@ -28,7 +28,7 @@ constexpr double kTilesPerRegion = 4.0;
 // group's longest flight and by two contact distances (one is enough; the second leaves
 // round-off no say).
 template <int D>
-Region<D> region_of(const ProblemContext<D>& ctx, const CollisionGroup& g) {
+Region<D> region_of(const StepView<D>& ctx, const CollisionGroup& g) {
   const State<D>& s = ctx.state;
   const auto clusters = clusters_of_group(ctx, g);
   const Vec<D> origin = ctx.positions[s.clusters[clusters.front().first].members.front()];
@@ -140,7 +140,7 @@ std::vector<std::vector<std::size_t>> waves_of_regions(const std::vector<Region<
 }
 
 template <int D>
-std::vector<std::vector<std::size_t>> repair_waves(const ProblemContext<D>& ctx, const std::vector<CollisionGroup>& groups,
+std::vector<std::vector<std::size_t>> repair_waves(const StepView<D>& ctx, const std::vector<CollisionGroup>& groups,
                                                    const std::vector<std::size_t>& unsolved) {
   if (unsolved.size() <= 1) {
     if (unsolved.empty()) return {};
@@ -162,9 +162,9 @@ std::vector<std::vector<std::size_t>> repair_waves(const ProblemContext<D>& ctx,
 
 template std::vector<std::vector<std::size_t>> waves_of_regions<2>(const std::vector<Region<2>>&, const Box<2>&);
 template std::vector<std::vector<std::size_t>> waves_of_regions<3>(const std::vector<Region<3>>&, const Box<3>&);
-template std::vector<std::vector<std::size_t>> repair_waves<2>(const ProblemContext<2>&, const std::vector<CollisionGroup>&,
+template std::vector<std::vector<std::size_t>> repair_waves<2>(const StepView<2>&, const std::vector<CollisionGroup>&,
                                                                const std::vector<std::size_t>&);
-template std::vector<std::vector<std::size_t>> repair_waves<3>(const ProblemContext<3>&, const std::vector<CollisionGroup>&,
+template std::vector<std::vector<std::size_t>> repair_waves<3>(const StepView<3>&, const std::vector<CollisionGroup>&,
                                                                const std::vector<std::size_t>&);
 
 }  // namespace ballagg

@@ -51,15 +51,15 @@ std::vector<std::vector<std::size_t>> waves_of_regions(const std::vector<Region<
 // The waves for the groups listed in `unsolved` (indices into groups), each wave in the
 // order of the repairs.
 template <int D>
-std::vector<std::vector<std::size_t>> repair_waves(const ProblemContext<D>& ctx, const std::vector<CollisionGroup>& groups,
+std::vector<std::vector<std::size_t>> repair_waves(const StepView<D>& ctx, const std::vector<CollisionGroup>& groups,
                                                    const std::vector<std::size_t>& unsolved);
 
 extern template std::vector<std::vector<std::size_t>> waves_of_regions<2>(const std::vector<Region<2>>&, const Box<2>&);
 extern template std::vector<std::vector<std::size_t>> waves_of_regions<3>(const std::vector<Region<3>>&, const Box<3>&);
-extern template std::vector<std::vector<std::size_t>> repair_waves<2>(const ProblemContext<2>&,
+extern template std::vector<std::vector<std::size_t>> repair_waves<2>(const StepView<2>&,
                                                                       const std::vector<CollisionGroup>&,
                                                                       const std::vector<std::size_t>&);
-extern template std::vector<std::vector<std::size_t>> repair_waves<3>(const ProblemContext<3>&,
+extern template std::vector<std::vector<std::size_t>> repair_waves<3>(const StepView<3>&,
                                                                       const std::vector<CollisionGroup>&,
                                                                       const std::vector<std::size_t>&);
 

@@ -50,7 +50,7 @@ constexpr std::int64_t kFirstRetreatPiece = 8;
 constexpr std::int64_t kRetreatPieceGrowth = 4;
 
 template <int D>
-Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, bool with_candidates) {
+Retreat<D> retreat_group(const StepView<D>& ctx, const CollisionGroup& g, bool with_candidates) {
   const State<D>& s = ctx.state;
   const QueriedClusters<D> queried(ctx, g, std::numeric_limits<int>::max());
   const auto& clusters = queried.clusters;  // (cluster, body index) of the group
@@ -258,7 +258,7 @@ Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& g, 
   return retreat;
 }
 
-template Retreat<2> retreat_group<2>(const ProblemContext<2>&, const CollisionGroup&, bool);
-template Retreat<3> retreat_group<3>(const ProblemContext<3>&, const CollisionGroup&, bool);
+template Retreat<2> retreat_group<2>(const StepView<2>&, const CollisionGroup&, bool);
+template Retreat<3> retreat_group<3>(const StepView<3>&, const CollisionGroup&, bool);
 
 }  // namespace ballagg

@@ -70,7 +70,7 @@ struct RetreatStart {
 };
 
 template <int D>
-std::vector<RetreatStart<D>> retreat_starts(const ProblemContext<D>& ctx,
+std::vector<RetreatStart<D>> retreat_starts(const StepView<D>& ctx,
                                             const std::vector<std::pair<std::int32_t, std::int32_t>>& clusters) {
   const State<D>& s = ctx.state;
   std::vector<RetreatStart<D>> out;
@@ -109,14 +109,14 @@ struct Retreat {
 };
 
 template <int D>
-Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& group, bool with_candidates = false);
+Retreat<D> retreat_group(const StepView<D>& ctx, const CollisionGroup& group, bool with_candidates = false);
 
 template <int D>
-GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionGroup& group) {
+GroupSolution<D> place_at_contact(const StepView<D>& ctx, const CollisionGroup& group) {
   return retreat_group(ctx, group).solution;
 }
 
-extern template Retreat<2> retreat_group<2>(const ProblemContext<2>&, const CollisionGroup&, bool);
-extern template Retreat<3> retreat_group<3>(const ProblemContext<3>&, const CollisionGroup&, bool);
+extern template Retreat<2> retreat_group<2>(const StepView<2>&, const CollisionGroup&, bool);
+extern template Retreat<3> retreat_group<3>(const StepView<3>&, const CollisionGroup&, bool);
 
 }  // namespace ballagg

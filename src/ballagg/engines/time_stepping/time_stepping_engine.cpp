@@ -137,7 +137,7 @@ class TimeSteppingEngine final : public Engine<D> {
   void poll_team() {
     if (team_) team_->poll();
   }
-  GroupSolution<D> repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const;
+  GroupSolution<D> repair(const StepView<D>& ctx, const CollisionGroup& group) const;
   bool beyond_minimisation(const State<D>& s, const CollisionGroup& group) const;
   std::uint64_t round_signature() const;
   void apply(const State<D>& s, const std::vector<const GroupSolution<D>*>& solutions, std::vector<int>& moved);
@@ -158,9 +158,22 @@ class TimeSteppingEngine final : public Engine<D> {
   void forget_outdated_sightings();
   double residual_overlap();
 
-  ProblemContext<D> context(const State<D>& s) const {
-    return {s, positions_, step_shift_, flight_, bodies_, *cells_, cell_slack_, S_, links_, settings_,
-            length_scale_, delta_w_, mean_mass_, sink_, guard_};
+  StepView<D> context(const State<D>& s) const {
+    return {.state = s,
+            .positions = positions_,
+            .step_shift = step_shift_,
+            .flight = flight_,
+            .bodies = bodies_,
+            .cells = *cells_,
+            .cell_slack = cell_slack_,
+            .S = S_,
+            .links = links_,
+            .settings = settings_,
+            .length_scale = length_scale_,
+            .delta_w = delta_w_,
+            .mean_mass = mean_mass_,
+            .sink = sink_,
+            .guard = guard_};
   }
   bool rigid() const { return settings_.model == TsModel::rigid; }
   // Whether sphere i may have moved more than the near list's half skin since its
@@ -545,7 +558,7 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
     const bool out_of_rounds =
         round >= settings_.max_link_rounds || repeats || (guard_ != nullptr && guard_->step_must_end());
     if (out_of_rounds) ++counters_.rounds_exhausted;
-    const ProblemContext<D> ctx = context(s);
+    const StepView<D> ctx = context(s);
     std::vector<GroupSolution<D>> solutions(groups.size());
     std::size_t work = 0;
     for (const CollisionGroup& g : groups) work += g.pairs.size();
@@ -608,7 +621,7 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
 // end of the step, merging at each contact (flight_sweep.hpp). The bodies are dissolved
 // first: the retreat undoes what joined them.
 template <int D>
-GroupSolution<D> TimeSteppingEngine<D>::repair(const ProblemContext<D>& ctx, const CollisionGroup& group) const {
+GroupSolution<D> TimeSteppingEngine<D>::repair(const StepView<D>& ctx, const CollisionGroup& group) const {
   if (settings_.fall_back == TsFallBack::keep_flight) return keep_flight(ctx, group);
   return place_at_contact(ctx, group);
 }
