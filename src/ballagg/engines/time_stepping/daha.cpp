@@ -8,7 +8,7 @@ namespace ballagg {
 namespace {
 
 // The fraction of its best value the worst violation must fall to, to count as progress
-// for stall_iterations.
+// for stall_iterations: a tenth less, so that slow creeping does not count as converging.
 constexpr double kStallProgress = 0.9;
 
 // Overlap statistics that drive the dynamical parameters (3.29).

@@ -17,13 +17,13 @@ namespace {
 constexpr double kNoContact = std::numeric_limits<double>::infinity();
 
 // A body whose clusters hold at least this many spheres that are searched from (not the
-// group's giant) is searched on several threads. A search costs about 0.5 us a sphere
-// (session 15: 83 searches of 10^4 to 10^5 spheres took 0.78 s), and late in a run of 10^6
-// the sweep of a group holding a large body often runs alone, with a search after each of
-// the body's events.
+// group's giant) is searched on several threads: the sweep of a group holding a large
+// body often runs alone, with a search after each of the body's events, and a search of a
+// few thousand spheres outweighs starting the threads.
 constexpr std::size_t kParallelSearchSpheres = 2048;
 
-// How many spheres of one cluster make one task of a parallel search's outside searches.
+// How many spheres of one cluster make one task of a parallel search's outside searches:
+// small enough to share a large cluster among the threads, large enough to outweigh a task.
 constexpr std::size_t kOutsideSearchPiece = 256;
 
 // The first t >= 0 at which |B + t V| = sigma while the pair closes in (kNoContact: never).
@@ -156,9 +156,8 @@ class FlightSweep {
   // spheres outside the group or to another cluster of it) stays within margin_ of it, it
   // is searched again from the pairs kept instead of from the cell list. After each event a
   // body's clusters are searched again, and a body that absorbs small clusters one by one
-  // changes its flight a little each time: at N = 10^6, 76 % of the outside searches were
-  // of a cluster searched before in the same sweep, 43 % of them on a flight less than R / 4
-  // from the one searched (seed 2, 2D, Vf 0.3).
+  // changes its flight a little each time: most searches are then of a cluster searched
+  // before in the same sweep, on a flight close to the one searched.
   const double margin_;
 };
 
@@ -230,8 +229,8 @@ void FlightSweep<D>::search_outside(const SearchTask& task, double tau, std::vec
     const int i = members[at];
     const Vec<D> p = s_.box.wrap(Vec<D>(end_of_flight(i) + displacement(k, tau)));
     ctx_.cells.for_each_near_segment(p, path, contact_reach_ + margin_ + ctx_.cell_slack, [&](int j) {
-      // Most spheres met are k's own (85 % in the first 40 steps of a run of 10^6): they
-      // are told apart before the search among the group's clusters.
+      // Most spheres met are k's own: they are told apart before the search among the
+      // group's clusters.
       const int cj = s_.spheres.cluster[j];
       if (cj != clusters_[k].first && local(cj) < 0) {
         kept.push_back({i, j});
@@ -267,7 +266,7 @@ void FlightSweep<D>::search_walls(int body, double tau) {
   for (int k : members_[body]) {
     // The cluster's bounding box (radii included) where free flight put it, the state's
     // place at the step's time, moved as the sweep has moved it: O(1) per cluster, not
-    // per sphere (a giant of 10^5 spheres is often in such a body late in a run).
+    // per sphere (a giant cluster is often in such a body late in a run).
     const Cluster<D>& cluster = s_.clusters[clusters_[k].first];
     const Vec<D> at = s_.origin(clusters_[k].first, s_.time) + displacement(k, tau);
     for (int axis = 0; axis < D; ++axis) {

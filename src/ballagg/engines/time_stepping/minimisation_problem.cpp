@@ -10,9 +10,11 @@ namespace ballagg {
 namespace {
 
 // Almost-rigid: pairs up to (1 + kRangeMargin) Delta_W apart enter the problem, so that a
-// pair drawn into range by the minimisation feels the attraction from then on.
+// pair drawn into range by the minimisation feels the attraction from then on (a quarter
+// of the range: about how far a minimisation draws spheres together).
 constexpr double kRangeMargin = 0.25;
-// Non-rigid: pairs closer than (2 + kContactMargin) R_max are constrained from the start.
+// Non-rigid: pairs closer than (2 + kContactMargin) R_max are constrained from the start,
+// so that spheres a minimisation brings together do not pass through each other.
 constexpr double kContactMargin = 0.5;
 
 std::uint64_t key(int i, int j) {
@@ -61,9 +63,8 @@ void add_guards(const StepView<D>& ctx, const CollisionGroup& g, int fixed, Daha
   const double gap = kGuardGap * 2.0 * s.max_radius();
   const std::size_t first = prob.pairs.size();
   // The pairs of S already in the problem (those of the group: a pair of S joins two bodies
-  // of one group), sorted, to leave them out. Asking S itself was a hash lookup per
-  // neighbour, most of them cache misses while S is large (about 10 % of the early steps at
-  // N = 10^6, docs/performance.md).
+  // of one group), sorted, to leave them out: asking S itself would be a hash lookup per
+  // neighbour, most of them cache misses while S is large.
   std::vector<std::uint64_t> in_s;
   for (std::size_t k = 0; k < first; ++k) in_s.push_back(key(sphere_pairs[k].i, sphere_pairs[k].j));
   std::sort(in_s.begin(), in_s.end());
@@ -186,10 +187,10 @@ GroupSolution<D> solve_rigid(const StepView<D>& ctx, const CollisionGroup& g) {
 // Start positions of the group's spheres, unwrapped (one image of the whole group, even
 // when it is wider than a periodic box): within a cluster from the sphere offsets plus what
 // this step's earlier rounds moved each sphere (the state moves only at the end of the step;
-// without the step's shifts the attraction acted on where the spheres were at the start of
-// the step and pushed each sphere a round had moved further the same way at every later
-// round: links opened by 100 diameters at N = 100), and from cluster to cluster across the
-// pairs of S and the links that join them.
+// without the step's shifts the attraction would act on where the spheres were at the
+// start of the step and push each sphere a round had moved further the same way at every
+// later round, opening its links), and from cluster to cluster across the pairs of S and
+// the links that join them.
 template <int D>
 std::vector<Vec<D>> unwrapped_starts(const StepView<D>& ctx, const CollisionGroup& g,
                                      const std::vector<std::pair<std::int32_t, std::int32_t>>& clusters,

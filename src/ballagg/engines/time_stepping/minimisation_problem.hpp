@@ -65,7 +65,8 @@ int body_index(const StepView<D>& ctx, const CollisionGroup& g, int i) {
 }
 
 // Clusters of up to this many spheres are small: the neighbourhood of all their spheres is
-// searched when a group is built or repaired.
+// searched when a group is built or repaired (a larger cluster moves little in a step, as
+// its speed falls with its mass, and its neighbours are found by the next round).
 inline constexpr int kSmallClusterSize = 32;
 
 // Calls f(i, j, b) for every sphere i of a queried cluster of the group's bodies and every

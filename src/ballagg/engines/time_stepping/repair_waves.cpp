@@ -12,16 +12,15 @@ namespace ballagg {
 namespace {
 
 // At most this many tiles in all (2^16: 256 x 256 in 2D, 40^3 in 3D): the grid is cleared
-// once per call.
+// once per call, so it stays small next to the repairs it orders.
 constexpr double kMaxTiles = 65536.0;
 
-// Regions of at least this many groups are found on several threads (a region costs about
-// 8 us: the spheres of the group, read at scattered places).
+// Regions of at least this many groups are found on several threads (a region reads the
+// spheres of its group at scattered places: worth sharing from a few dozen groups).
 constexpr std::int64_t kParallelRegions = 64;
 
-// Tiles across a typical region (the median width). At N = 10^6 (2D, Vf 0.3, second step)
-// tiles as wide as a region put 13 982 repairs in 153 waves, four per region in 84: finer
-// tiles tell more regions apart, at (kTilesPerRegion + 1)^D tiles marked per region.
+// Tiles across a typical region (the median width): finer tiles tell more regions apart,
+// so fewer waves, at (kTilesPerRegion + 1)^D tiles marked per region.
 constexpr double kTilesPerRegion = 4.0;
 
 // Where the group's spheres are now and where free flight put them, widened by twice the
@@ -147,9 +146,8 @@ std::vector<std::vector<std::size_t>> repair_waves(const StepView<D>& ctx, const
     return {unsolved};
   }
   const std::vector<std::size_t> order = repair_order(groups, unsolved);
-  // A region reads every sphere of its group's clusters, twice: early in a run of 10^6 a
-  // round has thousands of groups to repair, and their regions were 3 % of the run on one
-  // thread while the other waited. Each region is its own, so they are found at once.
+  // A region reads every sphere of its group's clusters, twice, and a round may have
+  // thousands of groups to repair. Each region is its own, so they are found at once.
   const std::int64_t n = static_cast<std::int64_t>(order.size());
   std::vector<Region<D>> regions(order.size());
 #pragma omp parallel for schedule(dynamic, 16) if (n >= kParallelRegions)
