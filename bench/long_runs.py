@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Long runs of issue #8: each engine at scale, to one cluster (or 99% of the mass), with
+"""Long runs: each engine at scale, to one cluster (or 99% of the mass), with
 `ballagg verify` at the end and the memory sampled over the run (docs/performance.md,
 "Long runs").
 

@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Speed of the rigid-body engine on the targets of issue #5.
+"""Speed of the rigid-body engine on its speed targets:
 
   * Richardson's model (v) (examples/richardson1995/model-v.toml: 9000 spheres, to
     T = 40.8): target under 10 s;

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The CPU time of a time-stepping run by stage, at two sizes side by side: which stages
-grow faster than the number of spheres (what lifts the growth exponent of issue #3).
+grow faster than the number of spheres (what lifts the growth exponent of the run time).
 
 Record each size with frame-pointer call chains, on a build made with
 -DCMAKE_CXX_FLAGS="-fno-omit-frame-pointer -g" (the release flags otherwise):

@@ -499,7 +499,7 @@ TEST_F(Cli, BadInputCreatesNoParentDirectoriesEither) {
 }
 
 // ---------------------------------------------------------------------------------------
-// The bad-input catalogue of issue 8 (docs/hardening.md): what a new user tries. The
+// The bad-input catalogue (docs/hardening.md): what a new user tries. The
 // wrong types, NaN and negative values of every key are in test_config.cpp; here what is
 // left, through the binary.
 

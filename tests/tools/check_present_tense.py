@@ -23,11 +23,16 @@ import sys
 # Files and folders checked, relative to the repository root.
 CHECKED_PATHS = [
     "README.md",
+    "bench",
     "docs",
+    "python",
+    "src",
+    "tests",
 ]
 
-# Files never searched: this script, whose samples name what it looks for.
-EXCLUDED_FILES = {"tests/tools/check_present_tense.py"}
+# Files never searched: this script, whose samples name what it looks for, and a bad-input
+# sample that is not UTF-8 on purpose.
+EXCLUDED_FILES = {"tests/tools/check_present_tense.py", "tests/bad_input/config/invalid_utf8.toml"}
 
 # File endings searched inside the checked folders.
 CHECKED_SUFFIXES = (".md", ".hpp", ".cpp", ".h", ".py", ".txt", ".toml", ".sh")

@@ -2,9 +2,9 @@
 """bench/ts_vs_ed.py's bookkeeping, with the runs made up (no binary is run).
 
 1. The repeats come in rounds: every size and seed once a round, the sizes above
-   --repeat-max-n in the first round only. A reading taken size after size was moved by
-   the VM's drift (docs/performance.md, session 24: 1.101 read in blocks, 1.162 in rounds on
-   the same engine); a regression to that order fails here.
+   --repeat-max-n in the first round only, so that a drift of the machine's speed over
+   the measurement spreads over every size instead of moving one size's reading; a
+   regression to size-after-size order fails here.
 2. The time kept for a size is the median over seeds of each seed's median run.
 Exit status 0 when both hold.
 """

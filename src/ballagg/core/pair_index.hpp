@@ -5,12 +5,12 @@
 // the first steps of a large run: std::unordered_map spent most of its time allocating a
 // node per pair. Clearing costs the number of entries, not the capacity. A table left far
 // larger than what it held is shrunk at clear() to a small front part of its storage, so
-// that the lookups of the many small sets that follow a large one stay in cache (at N =
-// 10^6 the first step's S of a million pairs left a 64 MB table behind, and every later
-// lookup was a cache miss). The storage itself is kept, at the cost of the largest table's
-// memory for the rest of the run: the early steps of a run of 10^6 alternate large and
-// small sets, and a table allocated afresh for each large one was zeroed and faulted in
-// page by page every time, on the main thread alone (docs/performance.md, session 27).
+// that the lookups of the many small sets that follow a large one stay in cache (a table
+// of a million pairs left behind would make every later lookup a cache miss). The storage
+// itself is kept, at the cost of the largest table's memory for the rest of the run: the
+// early steps of a large run alternate large and small sets, and a table allocated afresh
+// for each large one would be zeroed and faulted in page by page every time, on the main
+// thread alone.
 #include <cstdint>
 #include <utility>
 #include <vector>

@@ -19,10 +19,8 @@ inline void prefetch(const void* p) {
 
 // How many entries ahead the loops over a list of scattered ids (a giant cluster's members,
 // the spheres a solution moves) ask for the data of the id they will reach: far enough for
-// a load from memory to arrive before it is needed, near enough to stay in the cache. The
-// time-stepping engine's apply() over the last 421 steps of a run of 10^6 (2D, Vf 0.3,
-// seed 2): 0.90 s without, 0.54 s 8 ahead, 0.42 s 16 ahead, 0.40 s 32 ahead
-// (docs/performance.md, "Session 25").
+// a load from memory to arrive before it is needed, near enough to stay in the cache (the
+// gain levels off beyond this distance).
 inline constexpr std::size_t kPrefetchAhead = 16;
 
 // Prefetches entry `ahead` of a list of ids in each of the arrays (anything indexable whose

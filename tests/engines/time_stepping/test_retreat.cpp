@@ -153,8 +153,19 @@ bool retreat_matches_brute_force(std::mt19937& rng, int& free_count, int& blocke
   const AdhesiveSet S(n_ids);
   const AdhesiveLinks links(n);
   const TimeSteppingSettings settings;
-  const ProblemContext<D> ctx{s, positions, step_shift, flight, bodies, cells, cells.cell_size() - 2.0 * s.max_radius(),
-                              S, links, settings, 1.0, 4.0, 1.0};
+  const StepView<D> ctx{.state = s,
+                         .positions = positions,
+                         .step_shift = step_shift,
+                         .flight = flight,
+                         .bodies = bodies,
+                         .cells = cells,
+                         .cell_slack = cells.cell_size() - 2.0 * s.max_radius(),
+                         .S = S,
+                         .links = links,
+                         .settings = settings,
+                         .length_scale = 1.0,
+                         .delta_w = 4.0,
+                         .mean_mass = 1.0};
   CollisionGroup g;
   g.bodies.assign(group.begin(), group.end());
 
@@ -217,8 +228,19 @@ double retreat_of_a_row_past_an_outside_sphere(int a_size) {
   const AdhesiveSet S(n_ids);
   const AdhesiveLinks links(s.n_spheres());
   const TimeSteppingSettings settings;
-  const ProblemContext<2> ctx{s, positions, step_shift, flight, bodies, cells, cells.cell_size() - 2.0 * s.max_radius(),
-                              S, links, settings, 1.0, 4.0, 1.0};
+  const StepView<2> ctx{.state = s,
+                         .positions = positions,
+                         .step_shift = step_shift,
+                         .flight = flight,
+                         .bodies = bodies,
+                         .cells = cells,
+                         .cell_slack = cells.cell_size() - 2.0 * s.max_radius(),
+                         .S = S,
+                         .links = links,
+                         .settings = settings,
+                         .length_scale = 1.0,
+                         .delta_w = 4.0,
+                         .mean_mass = 1.0};
   CollisionGroup group;
   group.bodies = {g, a, b};
   const Retreat<2> retreat = retreat_group(ctx, group);

@@ -565,7 +565,7 @@ TEST(TimeSteppingNearPairs, ASphereMeetsADriftingGiantThatWasNotBinnedAgain) {
   // As late in a large run: a giant (a glued 20 x 20 block of touching discs) drifts at
   // 0.12 a step and a lone disc comes at it at 0.2 (dt = 1; the box 40 wide, cells 2 wide).
   // The near list refreshes the disc's pairs from a cell list in which the giant was binned
-  // up to 3.7 ago, looking that much wider (TimeSteppingEngine::cells_for_queries): the disc
+  // up to 3.7 ago, looking that much wider (StepCells::for_queries): the disc
   // must still stop where it touches the giant, with no overlap left after any step. The
   // event-driven answer: they meet at t = 9.76 / 0.32 = 30.5, the disc touching the middle
   // of the giant's facing column head-on, so the step that ends at t = 31 is the last one.

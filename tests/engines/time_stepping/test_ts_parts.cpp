@@ -32,7 +32,7 @@ namespace {
 // skin) away from where it is, as the engine's list kept from earlier steps does; or, with
 // aged_list, a list binned at an earlier step (rebinned every fourth refresh), with the
 // slack the farthest any sphere has moved since and the positions left unfilled, as the
-// engine passes it to a refresh that queries few spheres (cells_for_queries).
+// engine passes it to a refresh that queries few spheres (StepCells::for_queries).
 template <int D>
 void near_pairs_find_every_contact(Boundary boundary, bool giant = false, bool aged_list = false) {
   std::mt19937 rng(11);

@@ -73,8 +73,8 @@ class AdhesiveSet {
 
   // add() for each pair (i, j) in order, of bodies cluster_of[i] and cluster_of[j]. The
   // same as the adds one by one; the slot of a pair in the index is asked for
-  // kPrefetchAhead pairs ahead (the first step of a run of 10^6 adds a million pairs to a
-  // table of 32 MB, and each add waited for a slot from memory: 69 % of add()'s time).
+  // kPrefetchAhead pairs ahead (the first step of a large run adds millions of pairs to a
+  // table far larger than the cache, and each add would wait for its slot from memory).
   void add_all(const std::vector<SpherePair>& pairs, const std::vector<std::int32_t>& cluster_of) {
     reserve(pairs.size());
     for (std::size_t k = 0; k < pairs.size(); ++k) {
@@ -99,8 +99,8 @@ class AdhesiveSet {
     }
     for (int r : roots) changed_mark_[r] = 0;
     changed_.clear();
-    // Each group copied and sorted apart (the first round of a run of 10^6 takes 2 x 10^5
-    // of them, and the copies were a serial 1.5 % of the run), then put in order.
+    // Each group copied and sorted apart, on the threads (the first round of a large run
+    // takes a group per few spheres), then put in order.
     const std::int64_t n = static_cast<std::int64_t>(roots.size());
     std::vector<CollisionGroup> unordered(roots.size());
     std::vector<std::pair<std::int32_t, std::int32_t>> order(roots.size());  // (lowest body, k)

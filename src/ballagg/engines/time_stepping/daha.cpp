@@ -8,7 +8,7 @@ namespace ballagg {
 namespace {
 
 // The fraction of its best value the worst violation must fall to, to count as progress
-// for stall_iterations.
+// for stall_iterations: a tenth less, so that slow creeping does not count as converging.
 constexpr double kStallProgress = 0.9;
 
 // Overlap statistics that drive the dynamical parameters (3.29).
@@ -96,9 +96,8 @@ void add_global_attraction(const DahaProblem<D>& prob, const std::vector<Vec<D>>
 }
 
 // Projects the variables on the walls' bounds (prob.lower/upper): a variable stopped by a
-// wall keeps no velocity into it. Without this a minimisation pushed clusters through the
-// walls; a cluster grown across the box that way ended wider than the box (3D, N = 1000
-// in a box of 12 diameters: 199 spheres outside it at the end of a rigid run).
+// wall keeps no velocity into it. Without it a minimisation pushes clusters through the
+// walls, and a cluster grown across the box that way ends wider than the box.
 template <int D>
 void keep_within_walls(const DahaProblem<D>& prob, std::vector<Vec<D>>& u, std::vector<Vec<D>>& velocity) {
   if (prob.lower.empty()) return;
@@ -114,104 +113,154 @@ void keep_within_walls(const DahaProblem<D>& prob, std::vector<Vec<D>>& u, std::
     }
 }
 
-}  // namespace
-
+// (3.26): lambda = lambda0 max(0, phi) for a pair without a stored multiplier; the same
+// for a bond's upper bound.
 template <int D>
-DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<Vec<D>>& u, const RunGuard* guard) {
-  const int n_vars = static_cast<int>(prob.inverse_mass.size());
-  u.assign(n_vars, Vec<D>::Zero());
-  std::vector<Vec<D>> velocity(n_vars, Vec<D>::Zero()), force(n_vars), previous(n_vars);
-  // With c_min = c_max (the defaults) every variable's damping is that value, whatever
-  // (3.29) gives before clamping: the per-variable overlaps and step lengths it reads are
-  // then neither gathered nor computed (the same iterates in 8 % less time on the problems
-  // of a run of 10^4, docs/performance.md "Exact trims of session 22").
-  const bool per_variable_damping = p.c_min < p.c_max;
-  const std::size_t n_stats = per_variable_damping ? static_cast<std::size_t>(n_vars) : 0;
-  OverlapStats stats{std::vector<double>(n_stats), std::vector<double>(n_stats)};
-  // (3.26): lambda = lambda0 max(0, phi) for a pair without a stored multiplier.
-  // The same for a bond's upper bound.
+void initial_multipliers(DahaProblem<D>& prob, const DahaParameters& p) {
   for (DahaPair<D>& q : prob.pairs) {
     if (q.lambda == 0.0) q.lambda = p.lambda0 * std::max(0.0, q.sigma * q.sigma - q.base.squaredNorm());
     if (q.mu == 0.0 && q.stretch_limit < std::numeric_limits<double>::infinity())
       q.mu = p.lambda0 * std::max(0.0, q.base.squaredNorm() - q.stretch_limit * q.stretch_limit);
   }
-  update_multipliers(prob, u, 0.0, stats);  // beta = 0: statistics only
+}
+
+// (3.21)'s forces of the pairs at X^{r+1/2}: F_a = -alpha (grad_a W + lambda grad_a phi)
+// - gamma phi lambda grad_a phi, with grad_a W = d for an attracting pair and grad_a phi =
+// -2 d, d = X_a - X_b; and each variable's stiffness, the sum over its pairs of |dF/dd|.
+template <int D>
+void add_pair_forces(const DahaProblem<D>& prob, const DahaParameters& p, const std::vector<Vec<D>>& u,
+                     std::vector<Vec<D>>& force, std::vector<double>& stiffness) {
+  const double range2 = prob.range * prob.range;
+  for (const DahaPair<D>& q : prob.pairs) {
+    if (!q.attract && q.lambda == 0.0 && q.mu == 0.0) continue;  // no force: nothing active
+    const Vec<D> d = separation(q, u);
+    const double d2 = d.squaredNorm();
+    const double phi = q.sigma * q.sigma - d2;
+    const bool attract = q.attract && (!q.attract_within_range || d2 <= range2);
+    const double coefficient = (attract ? -p.alpha : 0.0) + 2.0 * q.lambda * (p.alpha + p.gamma * phi);
+    force[q.a] += coefficient * d;
+    force[q.b] -= coefficient * d;
+    double k = std::abs(coefficient) + 4.0 * p.gamma * q.lambda * d2;
+    if (q.mu > 0.0) {
+      // The bond's bound: -alpha mu grad psi - gamma psi mu grad psi, grad_a psi = 2 d.
+      const double psi = d2 - q.stretch_limit * q.stretch_limit;
+      const double pull = -2.0 * q.mu * (p.alpha + p.gamma * psi);
+      force[q.a] += pull * d;
+      force[q.b] -= pull * d;
+      k += std::abs(pull) + 4.0 * p.gamma * q.mu * d2;
+    }
+    stiffness[q.a] += k;
+    stiffness[q.b] += k;
+  }
+}
+
+// The iterates of the DAHA and what one iteration works with.
+template <int D>
+struct DahaIterate {
+  DahaIterate(int n_vars, bool per_variable_damping)
+      : velocity(n_vars, Vec<D>::Zero()),
+        force(n_vars),
+        previous(n_vars),
+        stiffness(n_vars),
+        stats{std::vector<double>(per_variable_damping ? n_vars : 0),
+              std::vector<double>(per_variable_damping ? n_vars : 0)} {}
+  std::vector<Vec<D>> velocity, force, previous;
   // Diagonal (Jacobi) scaling: the force on a variable held by stiff constraints (many of
   // them, or large multipliers) changes fast with its position, and the explicit update
   // would oscillate without bound. Each variable's force is divided by its stiffness
-  // (when above 1), the sum over its pairs of |dF/dd|; the steady states (zero force), and
-  // so the solutions, are unchanged.
-  std::vector<double> stiffness(n_vars);
+  // (when above 1); the steady states (zero force), and so the solutions, are unchanged.
+  std::vector<double> stiffness;
+  OverlapStats stats;
+};
+
+// (3.20): X^{r+1/2} = X^r + delta / 2 V^r, and the forces cleared.
+template <int D>
+void half_step_positions(std::vector<Vec<D>>& u, DahaIterate<D>& it, double half) {
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    u[k] += half * it.velocity[k];
+    it.force[k].setZero();
+    it.stiffness[k] = 0.0;
+  }
+}
+
+// (3.21) the velocity update by the scaled force, (3.22) the damping c_i of (3.29), and
+// (3.23) X^{r+1} = X^{r+1/2} + delta / 2 V^{r+1}.
+template <int D>
+void damped_velocity_step(const DahaProblem<D>& prob, const DahaParameters& p, std::vector<Vec<D>>& u,
+                          DahaIterate<D>& it, double half) {
+  const bool per_variable_damping = !it.stats.sum.empty();
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    it.velocity[k] += prob.inverse_mass[k] / std::max(1.0, it.stiffness[k]) * it.force[k];
+    double c = p.c_max;
+    if (per_variable_damping) {
+      const double own = it.stats.count[k] > 0.0 ? it.stats.sum[k] / it.stats.count[k] : 0.0;
+      c = dynamic_damping(p, p.delta * it.velocity[k].norm(), own, it.stats.mean);
+    }
+    it.velocity[k] *= 1.0 - c;          // (3.22)
+    u[k] += half * it.velocity[k];      // (3.23)
+  }
+}
+
+// (3.27), per variable, in units of the length scale: the largest of the squared moves,
+// one square root (the same value as the largest of the norms).
+template <int D>
+double largest_move(const std::vector<Vec<D>>& u, const std::vector<Vec<D>>& previous) {
+  double largest_squared_move = 0.0;
+  for (std::size_t k = 0; k < u.size(); ++k)
+    largest_squared_move = std::max(largest_squared_move, (u[k] - previous[k]).squaredNorm());
+  return std::sqrt(largest_squared_move);
+}
+
+// Progress watch for stall_iterations: the best worst-violation so far, and when it fell.
+struct StallWatch {
+  double best_violation;
+  int best_at = 0;
+  // Whether the minimisation has stalled at this iteration.
+  bool stalled(const DahaParameters& p, double violation, int iteration) {
+    if (violation < kStallProgress * best_violation || violation <= p.eps_c) {
+      best_violation = std::min(best_violation, violation);
+      best_at = iteration;
+      return false;
+    }
+    return p.stall_iterations > 0 && iteration - best_at >= p.stall_iterations;
+  }
+};
+
+}  // namespace
+
+// One iteration r -> r + 1 is (3.20)-(3.24); it stops on (3.27)-(3.28), at max_iterations,
+// when stalled, or when the run's guard says the step must end.
+template <int D>
+DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<Vec<D>>& u, const RunGuard* guard) {
+  const int n_vars = static_cast<int>(prob.inverse_mass.size());
+  u.assign(n_vars, Vec<D>::Zero());
+  // With c_min = c_max (the defaults) every variable's damping is that value, whatever
+  // (3.29) gives before clamping: the per-variable overlaps and step lengths it reads are
+  // then neither gathered nor computed (the same iterates, sooner).
+  DahaIterate<D> it(n_vars, p.c_min < p.c_max);
+  initial_multipliers(prob, p);
+  update_multipliers(prob, u, 0.0, it.stats);  // beta = 0: statistics only
   DahaResult result;
   const double half = 0.5 * p.delta;
-  const double range2 = prob.range * prob.range;
-  // Progress watch for stall_iterations: the best worst-violation so far, and when it fell.
-  double best_violation = stats.max;
-  int best_at = 0;
+  StallWatch watch{it.stats.max};
   while (result.iterations < p.max_iterations) {
     if (guard != nullptr && result.iterations % kIterationsPerGuardCheck == kIterationsPerGuardCheck - 1 &&
         guard->step_must_end())
       break;
     ++result.iterations;
-    previous = u;
-    for (int k = 0; k < n_vars; ++k) {
-      u[k] += half * velocity[k];  // (3.20): X^{r+1/2}
-      force[k].setZero();
-      stiffness[k] = 0.0;
-    }
-    keep_within_walls(prob, u, velocity);
-    if (!prob.position.empty()) add_global_attraction(prob, u, p.alpha, force, stiffness);
-    // (3.21): F_a = -alpha (grad_a W + lambda grad_a phi) - gamma phi lambda grad_a phi,
-    // with grad_a W = d for an attracting pair and grad_a phi = -2 d, d = X_a - X_b.
-    for (const DahaPair<D>& q : prob.pairs) {
-      if (!q.attract && q.lambda == 0.0 && q.mu == 0.0) continue;  // no force: nothing active
-      const Vec<D> d = separation(q, u);
-      const double d2 = d.squaredNorm();
-      const double phi = q.sigma * q.sigma - d2;
-      const bool attract = q.attract && (!q.attract_within_range || d2 <= range2);
-      const double coefficient = (attract ? -p.alpha : 0.0) + 2.0 * q.lambda * (p.alpha + p.gamma * phi);
-      force[q.a] += coefficient * d;
-      force[q.b] -= coefficient * d;
-      double k = std::abs(coefficient) + 4.0 * p.gamma * q.lambda * d2;
-      if (q.mu > 0.0) {
-        // The bond's bound: -alpha mu grad psi - gamma psi mu grad psi, grad_a psi = 2 d.
-        const double psi = d2 - q.stretch_limit * q.stretch_limit;
-        const double pull = -2.0 * q.mu * (p.alpha + p.gamma * psi);
-        force[q.a] += pull * d;
-        force[q.b] -= pull * d;
-        k += std::abs(pull) + 4.0 * p.gamma * q.mu * d2;
-      }
-      stiffness[q.a] += k;
-      stiffness[q.b] += k;
-    }
-    for (int k = 0; k < n_vars; ++k) {
-      velocity[k] += prob.inverse_mass[k] / std::max(1.0, stiffness[k]) * force[k];
-      double c = p.c_max;
-      if (per_variable_damping) {
-        const double own = stats.count[k] > 0.0 ? stats.sum[k] / stats.count[k] : 0.0;
-        c = dynamic_damping(p, p.delta * velocity[k].norm(), own, stats.mean);
-      }
-      velocity[k] *= 1.0 - c;          // (3.22)
-      u[k] += half * velocity[k];      // (3.23)
-    }
-    keep_within_walls(prob, u, velocity);
-    update_multipliers(prob, u, dynamic_beta(p, prob.n_spheres, stats.mean), stats);  // (3.24)
-    // (3.27), per variable, in units of the length scale: the largest of the squared
-    // moves, one square root (the same value as the largest of the norms).
-    double largest_squared_move = 0.0;
-    for (int k = 0; k < n_vars; ++k)
-      largest_squared_move = std::max(largest_squared_move, (u[k] - previous[k]).squaredNorm());
-    const double largest_move = std::sqrt(largest_squared_move);
-    result.converged = largest_move <= p.eps_s && stats.max <= p.eps_c;  // (3.28)
+    it.previous = u;
+    half_step_positions(u, it, half);  // (3.20)
+    keep_within_walls(prob, u, it.velocity);
+    if (!prob.position.empty()) add_global_attraction(prob, u, p.alpha, it.force, it.stiffness);
+    add_pair_forces(prob, p, u, it.force, it.stiffness);  // (3.21)
+    damped_velocity_step(prob, p, u, it, half);            // (3.21)-(3.23)
+    keep_within_walls(prob, u, it.velocity);
+    update_multipliers(prob, u, dynamic_beta(p, prob.n_spheres, it.stats.mean), it.stats);  // (3.24)
+    result.converged = largest_move(u, it.previous) <= p.eps_s && it.stats.max <= p.eps_c;  // (3.27), (3.28)
     if (result.converged) break;
-    if (stats.max < kStallProgress * best_violation || stats.max <= p.eps_c) {
-      best_violation = std::min(best_violation, stats.max);
-      best_at = result.iterations;
-    } else if (p.stall_iterations > 0 && result.iterations - best_at >= p.stall_iterations) {
-      break;  // stalled
-    }
+    if (watch.stalled(p, it.stats.max, result.iterations)) break;
   }
-  result.residual_overlap = stats.max;
+  result.residual_overlap = it.stats.max;
   return result;
 }
 

@@ -76,8 +76,8 @@ struct DahaResult {
   double residual_overlap = 0.0;      // max over pairs of 1 - d / sigma at the end
 };
 
-// Iterations between two questions to the run's guard (RunGuard::step_must_end, a clock
-// reading of about 20 ns; an iteration of the smallest problem costs about as much).
+// Iterations between two questions to the run's guard (RunGuard::step_must_end reads a
+// clock, which costs about as much as an iteration of the smallest problem).
 inline constexpr int kIterationsPerGuardCheck = 64;
 
 // Solves the problem; returns the displacements (scaled) in `u` (resized to the number of

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "ballagg/collision/crossing.hpp"
+#include "ballagg/core/disjoint_sets.hpp"
 #include "ballagg/core/prefetch.hpp"
 
 namespace ballagg {
@@ -17,13 +18,13 @@ namespace {
 constexpr double kNoContact = std::numeric_limits<double>::infinity();
 
 // A body whose clusters hold at least this many spheres that are searched from (not the
-// group's giant) is searched on several threads. A search costs about 0.5 us a sphere
-// (session 15: 83 searches of 10^4 to 10^5 spheres took 0.78 s), and late in a run of 10^6
-// the sweep of a group holding a large body often runs alone, with a search after each of
-// the body's events.
+// group's giant) is searched on several threads: the sweep of a group holding a large
+// body often runs alone, with a search after each of the body's events, and a search of a
+// few thousand spheres outweighs starting the threads.
 constexpr std::size_t kParallelSearchSpheres = 2048;
 
-// How many spheres of one cluster make one task of a parallel search's outside searches.
+// How many spheres of one cluster make one task of a parallel search's outside searches:
+// small enough to share a large cluster among the threads, large enough to outweigh a task.
 constexpr std::size_t kOutsideSearchPiece = 256;
 
 // The first t >= 0 at which |B + t V| = sigma while the pair closes in (kNoContact: never).
@@ -46,7 +47,7 @@ double first_contact(const Vec<D>& B, const Vec<D>& V, double sigma) {
 template <int D>
 class FlightSweep {
  public:
-  FlightSweep(const ProblemContext<D>& ctx, const CollisionGroup& g)
+  FlightSweep(const StepView<D>& ctx, const CollisionGroup& g)
       : ctx_(ctx),
         s_(ctx.state),
         queried_(ctx, g, std::numeric_limits<int>::max()),
@@ -60,14 +61,13 @@ class FlightSweep {
     a_.resize(n);
     v_.resize(n);
     epoch_.assign(n, 0);
-    root_.resize(n);
+    bodies_ = DisjointSets(static_cast<int>(n));
     members_.resize(n);
     frozen_.assign(n, 0);
     outside_kept_.resize(n);  // per cluster, its pieces when it is first searched
     for (std::size_t k = 0; k < n; ++k) {
       v_[k] = ctx.flight[clusters_[k].first];
       a_[k] = -v_[k];
-      root_[k] = static_cast<int>(k);
       members_[k] = {static_cast<int>(k)};
     }
   }
@@ -93,10 +93,7 @@ class FlightSweep {
     const auto it = std::lower_bound(index_.begin(), index_.end(), std::pair<std::int32_t, std::int32_t>{cluster, -1});
     return it != index_.end() && it->first == cluster ? it->second : -1;
   }
-  int root(int k) const {
-    while (root_[k] != k) k = root_[k];
-    return k;
-  }
+  int root(int k) { return bodies_.find(k); }
   Vec<D> end_of_flight(int i) const { return ctx_.positions[i] - ctx_.step_shift[i]; }
   Vec<D> displacement(int k, double tau) const { return a_[k] + tau * v_[k]; }
   const std::vector<int>& spheres(int k) const { return s_.clusters[clusters_[k].first].members; }
@@ -133,9 +130,9 @@ class FlightSweep {
   void set_velocity(int body, const Vec<D>& v, double tau);
   int merge(int k, int m, double tau);
   void stop(int k, double tau);
-  bool valid(const Event& e) const;
+  bool valid(const Event& e);
 
-  const ProblemContext<D>& ctx_;
+  const StepView<D>& ctx_;
   const State<D>& s_;
   const QueriedClusters<D> queried_;
   const std::vector<std::pair<std::int32_t, std::int32_t>>& clusters_;  // (cluster, body) of the group
@@ -144,7 +141,7 @@ class FlightSweep {
   std::vector<std::pair<std::int32_t, std::int32_t>> index_;           // (cluster, k), sorted
   std::vector<Vec<D>> a_, v_;
   std::vector<int> epoch_;              // per cluster: bumped when its motion changes
-  std::vector<int> root_;               // union-find of the bodies of the sweep
+  DisjointSets bodies_;                 // the bodies of the sweep, sets of clusters (k)
   std::vector<std::vector<int>> members_;  // per root: its clusters
   std::vector<char> frozen_;            // per root: stopped against a sphere outside or a wall
   std::priority_queue<Event, std::vector<Event>, std::greater<Event>> events_;
@@ -160,9 +157,8 @@ class FlightSweep {
   // spheres outside the group or to another cluster of it) stays within margin_ of it, it
   // is searched again from the pairs kept instead of from the cell list. After each event a
   // body's clusters are searched again, and a body that absorbs small clusters one by one
-  // changes its flight a little each time: at N = 10^6, 76 % of the outside searches were
-  // of a cluster searched before in the same sweep, 43 % of them on a flight less than R / 4
-  // from the one searched (seed 2, 2D, Vf 0.3).
+  // changes its flight a little each time: most searches are then of a cluster searched
+  // before in the same sweep, on a flight close to the one searched.
   const double margin_;
 };
 
@@ -234,8 +230,8 @@ void FlightSweep<D>::search_outside(const SearchTask& task, double tau, std::vec
     const int i = members[at];
     const Vec<D> p = s_.box.wrap(Vec<D>(end_of_flight(i) + displacement(k, tau)));
     ctx_.cells.for_each_near_segment(p, path, contact_reach_ + margin_ + ctx_.cell_slack, [&](int j) {
-      // Most spheres met are k's own (85 % in the first 40 steps of a run of 10^6): they
-      // are told apart before the search among the group's clusters.
+      // Most spheres met are k's own: they are told apart before the search among the
+      // group's clusters.
       const int cj = s_.spheres.cluster[j];
       if (cj != clusters_[k].first && local(cj) < 0) {
         kept.push_back({i, j});
@@ -271,7 +267,7 @@ void FlightSweep<D>::search_walls(int body, double tau) {
   for (int k : members_[body]) {
     // The cluster's bounding box (radii included) where free flight put it, the state's
     // place at the step's time, moved as the sweep has moved it: O(1) per cluster, not
-    // per sphere (a giant of 10^5 spheres is often in such a body late in a run).
+    // per sphere (a giant cluster is often in such a body late in a run).
     const Cluster<D>& cluster = s_.clusters[clusters_[k].first];
     const Vec<D> at = s_.origin(clusters_[k].first, s_.time) + displacement(k, tau);
     for (int axis = 0; axis < D; ++axis) {
@@ -373,12 +369,11 @@ void FlightSweep<D>::set_velocity(int body, const Vec<D>& v, double tau) {
 // (none, when either has stopped). Returns the new body.
 template <int D>
 int FlightSweep<D>::merge(int k, int m, double tau) {
-  int big = root(k), small = root(m);
-  // Whichever side the contact was found from, the same body keeps the same order of
-  // members (the order of the sum below).
-  if (members_[big].size() < members_[small].size() || (members_[big].size() == members_[small].size() && small < big))
-    std::swap(big, small);
-  root_[small] = big;
+  const int a = root(k), b = root(m);
+  // The larger body, or of two equal ones the lower index, absorbs the other (union by
+  // size counts clusters, as members_ does): whichever side the contact was found from,
+  // the same body keeps the same order of members (the order of the sum below).
+  const int big = bodies_.unite(a, b), small = big == a ? b : a;
   members_[big].insert(members_[big].end(), members_[small].begin(), members_[small].end());
   members_[small].clear();
   frozen_[big] = frozen_[big] || frozen_[small];
@@ -402,7 +397,7 @@ void FlightSweep<D>::stop(int k, double tau) {
 }
 
 template <int D>
-bool FlightSweep<D>::valid(const Event& e) const {
+bool FlightSweep<D>::valid(const Event& e) {
   if (epoch_[e.k] != e.ek) return false;
   return e.m < 0 || (epoch_[e.m] == e.em && root(e.k) != root(e.m));
 }
@@ -476,7 +471,7 @@ GroupSolution<D> FlightSweep<D>::run(Retreat<D> retreat) {
 }  // namespace
 
 template <int D>
-GroupSolution<D> keep_flight(const ProblemContext<D>& ctx, const CollisionGroup& group) {
+GroupSolution<D> keep_flight(const StepView<D>& ctx, const CollisionGroup& group) {
   Retreat<D> retreat = retreat_group(ctx, group, true);
   // Nothing to sweep when the group is back at the start of the step (most retreats of a
   // large run) or where free flight put it: the sweep's set-up (the group's bounding
@@ -486,7 +481,7 @@ GroupSolution<D> keep_flight(const ProblemContext<D>& ctx, const CollisionGroup&
   return sweep.run(std::move(retreat));
 }
 
-template GroupSolution<2> keep_flight<2>(const ProblemContext<2>&, const CollisionGroup&);
-template GroupSolution<3> keep_flight<3>(const ProblemContext<3>&, const CollisionGroup&);
+template GroupSolution<2> keep_flight<2>(const StepView<2>&, const CollisionGroup&);
+template GroupSolution<3> keep_flight<3>(const StepView<3>&, const CollisionGroup&);
 
 }  // namespace ballagg

@@ -3,10 +3,10 @@
 //
 // The retreat (retreat.hpp) moves a group the minimisation did not solve back to the last
 // instant of the step at which it overlaps nothing, and the rest of the step's flight is
-// lost. When a step is many collision times long (2D, Vf 0.3, dt_factor 0.005: a flight of
-// 8 diameters at N = 10^6) nearly every cluster of the box is in such a group at every
-// step, a step merges about one pair per group, and the run needs ever more steps as N
-// grows (docs/performance.md, "Why the exponent is missed").
+// lost. When a step is many collision times long (dt_factor scales the step with the box,
+// so a large box has steps of several diameters of flight) nearly every cluster of the box
+// is in such a group at every step, a step merges about one pair per group, and the run
+// needs ever more steps as N grows.
 //
 // Here the group goes on from that instant to the end of the step, event by event as the
 // exact dynamics would: the pairs touching there join their clusters into bodies that fly
@@ -23,9 +23,9 @@
 namespace ballagg {
 
 template <int D>
-GroupSolution<D> keep_flight(const ProblemContext<D>& ctx, const CollisionGroup& group);
+GroupSolution<D> keep_flight(const StepView<D>& ctx, const CollisionGroup& group);
 
-extern template GroupSolution<2> keep_flight<2>(const ProblemContext<2>&, const CollisionGroup&);
-extern template GroupSolution<3> keep_flight<3>(const ProblemContext<3>&, const CollisionGroup&);
+extern template GroupSolution<2> keep_flight<2>(const StepView<2>&, const CollisionGroup&);
+extern template GroupSolution<3> keep_flight<3>(const StepView<3>&, const CollisionGroup&);
 
 }  // namespace ballagg

@@ -3,13 +3,12 @@
 //
 // The searches around a group (its guards, its retreat) ask for every sphere they meet
 // whether it is in the group and in which of its bodies: body_index (minimisation_problem.hpp)
-// looks up the body of the sphere's cluster and searches the group's bodies for it, and a
-// run of 10^6 spheres (2D, Vf 0.3) asked it 46 million times in the retreats of its
-// first nine steps. Here the group's clusters are marked with their body index in an
-// array over cluster ids that the calling thread keeps from one group to the next; a stamp
-// per group tells the marks of earlier groups apart, so a group costs O(its clusters), not
-// O(cluster ids). The array takes 8 bytes per cluster id per thread that uses it (16 MB at
-// N = 10^6 on two threads), kept until the thread ends.
+// looks up the body of the sphere's cluster and searches the group's bodies for it, and
+// the retreats of a large run ask it tens of millions of times. Here the group's clusters
+// are marked with their body index in an array over cluster ids that the calling thread
+// keeps from one group to the next; a stamp per group tells the marks of earlier groups
+// apart, so a group costs O(its clusters), not O(cluster ids). The array takes 8 bytes per
+// cluster id per thread that uses it, kept until the thread ends.
 //
 // Other threads may read the marks while their maker waits for them (the retreat shares
 // its searches among threads); a thread holds one GroupMarks at a time.

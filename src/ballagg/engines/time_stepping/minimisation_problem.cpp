@@ -10,9 +10,11 @@ namespace ballagg {
 namespace {
 
 // Almost-rigid: pairs up to (1 + kRangeMargin) Delta_W apart enter the problem, so that a
-// pair drawn into range by the minimisation feels the attraction from then on.
+// pair drawn into range by the minimisation feels the attraction from then on (a quarter
+// of the range: about how far a minimisation draws spheres together).
 constexpr double kRangeMargin = 0.25;
-// Non-rigid: pairs closer than (2 + kContactMargin) R_max are constrained from the start.
+// Non-rigid: pairs closer than (2 + kContactMargin) R_max are constrained from the start,
+// so that spheres a minimisation brings together do not pass through each other.
 constexpr double kContactMargin = 0.5;
 
 std::uint64_t key(int i, int j) {
@@ -21,7 +23,7 @@ std::uint64_t key(int i, int j) {
 }
 
 template <int D>
-DahaPair<D> make_pair(const ProblemContext<D>& ctx, int i, int j, int a, int b, double lambda) {
+DahaPair<D> make_pair(const StepView<D>& ctx, int i, int j, int a, int b, double lambda) {
   const State<D>& s = ctx.state;
   DahaPair<D> q;
   q.a = a;
@@ -55,15 +57,14 @@ constexpr double kGuardGap = 1.0;
 // the paper's Remark 3.2). Spheres of larger clusters are not guarded (they move little;
 // see for_each_neighbour_of_group).
 template <int D>
-void add_guards(const ProblemContext<D>& ctx, const CollisionGroup& g, int fixed, DahaProblem<D>& prob,
+void add_guards(const StepView<D>& ctx, const CollisionGroup& g, int fixed, DahaProblem<D>& prob,
                 std::vector<SpherePair>& sphere_pairs) {
   const State<D>& s = ctx.state;
   const double gap = kGuardGap * 2.0 * s.max_radius();
   const std::size_t first = prob.pairs.size();
   // The pairs of S already in the problem (those of the group: a pair of S joins two bodies
-  // of one group), sorted, to leave them out. Asking S itself was a hash lookup per
-  // neighbour, most of them cache misses while S is large (about 10 % of the early steps at
-  // N = 10^6, docs/performance.md).
+  // of one group), sorted, to leave them out: asking S itself would be a hash lookup per
+  // neighbour, most of them cache misses while S is large.
   std::vector<std::uint64_t> in_s;
   for (std::size_t k = 0; k < first; ++k) in_s.push_back(key(sphere_pairs[k].i, sphere_pairs[k].j));
   std::sort(in_s.begin(), in_s.end());
@@ -100,7 +101,7 @@ void add_guards(const ProblemContext<D>& ctx, const CollisionGroup& g, int fixed
 // touches it, and not at all into a wall it already pokes through (the next step moves it
 // back). A variable wider than the box along an axis is left free along it.
 template <int D>
-void bound_by_walls(const ProblemContext<D>& ctx, const std::vector<Vec<D>>& lo, const std::vector<Vec<D>>& hi,
+void bound_by_walls(const StepView<D>& ctx, const std::vector<Vec<D>>& lo, const std::vector<Vec<D>>& hi,
                     DahaProblem<D>& prob) {
   const Box<D>& box = ctx.state.box;
   if (box.periodic()) return;
@@ -131,7 +132,7 @@ std::vector<SpherePair> touching_pairs(const DahaProblem<D>& prob, const std::ve
 
 // Rigid model: one variable per body, of the body's mass.
 template <int D>
-GroupSolution<D> solve_rigid(const ProblemContext<D>& ctx, const CollisionGroup& g) {
+GroupSolution<D> solve_rigid(const StepView<D>& ctx, const CollisionGroup& g) {
   const State<D>& s = ctx.state;
   const auto clusters = clusters_of_group(ctx, g);
   DahaProblem<D> prob;
@@ -186,12 +187,12 @@ GroupSolution<D> solve_rigid(const ProblemContext<D>& ctx, const CollisionGroup&
 // Start positions of the group's spheres, unwrapped (one image of the whole group, even
 // when it is wider than a periodic box): within a cluster from the sphere offsets plus what
 // this step's earlier rounds moved each sphere (the state moves only at the end of the step;
-// without the step's shifts the attraction acted on where the spheres were at the start of
-// the step and pushed each sphere a round had moved further the same way at every later
-// round: links opened by 100 diameters at N = 100), and from cluster to cluster across the
-// pairs of S and the links that join them.
+// without the step's shifts the attraction would act on where the spheres were at the
+// start of the step and push each sphere a round had moved further the same way at every
+// later round, opening its links), and from cluster to cluster across the pairs of S and
+// the links that join them.
 template <int D>
-std::vector<Vec<D>> unwrapped_starts(const ProblemContext<D>& ctx, const CollisionGroup& g,
+std::vector<Vec<D>> unwrapped_starts(const StepView<D>& ctx, const CollisionGroup& g,
                                      const std::vector<std::pair<std::int32_t, std::int32_t>>& clusters,
                                      const std::unordered_map<int, int>& local, int n_spheres) {
   const State<D>& s = ctx.state;
@@ -227,140 +228,206 @@ std::vector<Vec<D>> unwrapped_starts(const ProblemContext<D>& ctx, const Collisi
 
 // Non-rigid and almost-rigid: one variable per sphere of the group. Constraints on S, on
 // the old links and on every pair close enough to come into contact; attraction over all
-// pairs (non-rigid) or over the pairs within Delta_W (almost-rigid).
+// pairs (non-rigid) or over the pairs within Delta_W (almost-rigid). Built in named steps:
+// the group's spheres, their variables, the pairs, then the solution read back.
 template <int D>
-GroupSolution<D> solve_per_sphere(const ProblemContext<D>& ctx, const CollisionGroup& g) {
-  const State<D>& s = ctx.state;
-  const auto clusters = clusters_of_group(ctx, g);
-  std::vector<int> spheres;
-  for (const auto& [c, b] : clusters)
-    spheres.insert(spheres.end(), s.clusters[c].members.begin(), s.clusters[c].members.end());
-  std::unordered_map<int, int> local;
-  local.reserve(spheres.size());
-  for (std::size_t a = 0; a < spheres.size(); ++a) local.emplace(spheres[a], static_cast<int>(a));
+class PerSphereProblem {
+ public:
+  PerSphereProblem(const StepView<D>& ctx, const CollisionGroup& g);
+  GroupSolution<D> solve();
 
-  DahaProblem<D> prob;
-  prob.n_spheres = static_cast<int>(spheres.size());
-  const bool local_attraction = ctx.settings.model == TsModel::almost_rigid;
-  prob.range = ctx.delta_w / ctx.length_scale;
-  if (!local_attraction) {
-    for (const Vec<D>& x : unwrapped_starts(ctx, g, clusters, local, static_cast<int>(spheres.size())))
-      prob.position.push_back(x / ctx.length_scale);
-  }
-  // Almost-rigid: cells of side Delta_W (the "rectangles" of §3.3) over the group's
-  // spheres find the pairs within range. The spheres within Delta_W of a sphere of a new
-  // contact move each on its own; the rest of each cluster moves as one rigid part (one
-  // variable of its mass), so a cluster deforms only near the impact ("a partial rigid
-  // body, where some elasticity is admitted but only locally") and is carried as a whole
-  // by its links otherwise.
+ private:
+  void mark_mobile();
+  void assign_variables();
+  void add(int i, int j, double lambda, bool bond = false);
+  void add_pairs();
+
+  const StepView<D>& ctx_;
+  const State<D>& s_;
+  const CollisionGroup& g_;
+  const bool local_attraction_;   // almost-rigid
+  std::vector<int> spheres_;      // of the group, cluster by cluster
+  std::vector<Vec<D>> x_;         // their positions
+  std::unordered_map<int, int> local_;  // sphere -> index in spheres_
+  double reach_;                  // pairs closer than this enter the problem
+  SortedCellList<D> cells_;       // over x_, cells of side reach_
+  std::vector<char> mobile_;      // per sphere: a variable of its own
+  std::vector<int> variable_;     // of each sphere of the group
+  std::vector<double> mass_;      // of each variable
+  DahaProblem<D> prob_;
+  std::unordered_map<std::uint64_t, int> index_;  // pair key -> position in prob_.pairs
+  std::vector<SpherePair> sphere_pairs_;          // of each pair of the problem
+  std::vector<SpherePair> links_;                 // the old links, for their new multipliers
+  std::size_t first_link_ = 0, last_link_ = 0;    // the links' range in prob_.pairs
+};
+
+// The spheres of the group's clusters, cluster by cluster.
+template <int D>
+std::vector<int> spheres_of_group(const StepView<D>& ctx, const CollisionGroup& g) {
+  std::vector<int> spheres;
+  for (const auto& [c, b] : clusters_of_group(ctx, g))
+    spheres.insert(spheres.end(), ctx.state.clusters[c].members.begin(), ctx.state.clusters[c].members.end());
+  return spheres;
+}
+
+template <int D>
+std::vector<Vec<D>> positions_of(const StepView<D>& ctx, const std::vector<int>& spheres) {
   std::vector<Vec<D>> x;
   for (int i : spheres) x.push_back(ctx.positions[i]);
-  const double reach = local_attraction ? (1.0 + kRangeMargin) * ctx.delta_w : (2.0 + kContactMargin) * s.max_radius();
-  SortedCellList<D> cells(s.box, reach, static_cast<int>(x.size()));
-  cells.build(x);
-  std::vector<char> mobile(spheres.size(), local_attraction ? 0 : 1);
-  if (local_attraction)
-    for (int idx : g.pairs)
-      for (int i : {ctx.S.pairs()[idx].i, ctx.S.pairs()[idx].j}) {
-        const Vec<D>& xi = x[local.at(i)];
-        cells.for_each_near(xi, [&](int b) {
-          if (s.box.separation(xi, x[b]).norm() <= reach) mobile[b] = 1;
-        });
-      }
-  std::vector<int> variable(spheres.size());    // of each sphere of the group
-  std::unordered_map<int, int> rigid_part;      // cluster -> variable of its rigid part
-  std::vector<double> mass;                     // of each variable
-  for (std::size_t a = 0; a < spheres.size(); ++a) {
-    const double m = s.spheres.mass[spheres[a]];
-    if (mobile[a]) {
-      variable[a] = static_cast<int>(mass.size());
-      mass.push_back(m);
+  return x;
+}
+
+template <int D>
+PerSphereProblem<D>::PerSphereProblem(const StepView<D>& ctx, const CollisionGroup& g)
+    : ctx_(ctx),
+      s_(ctx.state),
+      g_(g),
+      local_attraction_(ctx.settings.model == TsModel::almost_rigid),
+      spheres_(spheres_of_group(ctx, g)),
+      x_(positions_of(ctx, spheres_)),
+      reach_(local_attraction_ ? (1.0 + kRangeMargin) * ctx.delta_w : (2.0 + kContactMargin) * s_.max_radius()),
+      cells_(s_.box, reach_, static_cast<int>(x_.size())) {
+  local_.reserve(spheres_.size());
+  for (std::size_t a = 0; a < spheres_.size(); ++a) local_.emplace(spheres_[a], static_cast<int>(a));
+  prob_.n_spheres = static_cast<int>(spheres_.size());
+  prob_.range = ctx.delta_w / ctx.length_scale;
+  if (!local_attraction_) {
+    for (const Vec<D>& x : unwrapped_starts(ctx, g, clusters_of_group(ctx, g), local_, static_cast<int>(spheres_.size())))
+      prob_.position.push_back(x / ctx.length_scale);
+  }
+  cells_.build(x_);
+  mark_mobile();
+  assign_variables();
+  add_pairs();
+}
+
+// Almost-rigid: cells of side Delta_W (the "rectangles" of §3.3) over the group's spheres
+// find the pairs within range. The spheres within Delta_W of a sphere of a new contact
+// move each on its own; the rest of each cluster moves as one rigid part (one variable of
+// its mass), so a cluster deforms only near the impact ("a partial rigid body, where some
+// elasticity is admitted but only locally") and is carried as a whole by its links
+// otherwise. Non-rigid: every sphere is mobile.
+template <int D>
+void PerSphereProblem<D>::mark_mobile() {
+  mobile_.assign(spheres_.size(), local_attraction_ ? 0 : 1);
+  if (!local_attraction_) return;
+  for (int idx : g_.pairs)
+    for (int i : {ctx_.S.pairs()[idx].i, ctx_.S.pairs()[idx].j}) {
+      const Vec<D>& xi = x_[local_.at(i)];
+      cells_.for_each_near(xi, [&](int b) {
+        if (s_.box.separation(xi, x_[b]).norm() <= reach_) mobile_[b] = 1;
+      });
+    }
+}
+
+// A variable per mobile sphere and per rigid part, with its mass and, between walls, the
+// box of displacements that keeps its spheres inside.
+template <int D>
+void PerSphereProblem<D>::assign_variables() {
+  variable_.resize(spheres_.size());
+  std::unordered_map<int, int> rigid_part;  // cluster -> variable of its rigid part
+  for (std::size_t a = 0; a < spheres_.size(); ++a) {
+    const double m = s_.spheres.mass[spheres_[a]];
+    if (mobile_[a]) {
+      variable_[a] = static_cast<int>(mass_.size());
+      mass_.push_back(m);
       continue;
     }
-    const auto [it, added] = rigid_part.emplace(s.spheres.cluster[spheres[a]], static_cast<int>(mass.size()));
-    if (added) mass.push_back(0.0);
-    variable[a] = it->second;
-    mass[it->second] += m;
+    const auto [it, added] = rigid_part.emplace(s_.spheres.cluster[spheres_[a]], static_cast<int>(mass_.size()));
+    if (added) mass_.push_back(0.0);
+    variable_[a] = it->second;
+    mass_[it->second] += m;
   }
-  for (double m : mass) prob.inverse_mass.push_back(ctx.mean_mass / m);
-  if (!s.box.periodic()) {
-    constexpr double inf = std::numeric_limits<double>::infinity();
-    std::vector<Vec<D>> lo(mass.size(), Vec<D>::Constant(inf)), hi(mass.size(), Vec<D>::Constant(-inf));
-    for (std::size_t a = 0; a < spheres.size(); ++a) {
-      const double r = s.spheres.radius[spheres[a]];
-      lo[variable[a]] = lo[variable[a]].cwiseMin(x[a] - Vec<D>::Constant(r));
-      hi[variable[a]] = hi[variable[a]].cwiseMax(x[a] + Vec<D>::Constant(r));
-    }
-    bound_by_walls(ctx, lo, hi, prob);
+  for (double m : mass_) prob_.inverse_mass.push_back(ctx_.mean_mass / m);
+  if (s_.box.periodic()) return;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  std::vector<Vec<D>> lo(mass_.size(), Vec<D>::Constant(inf)), hi(mass_.size(), Vec<D>::Constant(-inf));
+  for (std::size_t a = 0; a < spheres_.size(); ++a) {
+    const double r = s_.spheres.radius[spheres_[a]];
+    lo[variable_[a]] = lo[variable_[a]].cwiseMin(x_[a] - Vec<D>::Constant(r));
+    hi[variable_[a]] = hi[variable_[a]].cwiseMax(x_[a] + Vec<D>::Constant(r));
   }
+  bound_by_walls(ctx_, lo, hi, prob_);
+}
 
-  std::unordered_map<std::uint64_t, int> index;  // pair key -> position in prob.pairs
-  std::vector<SpherePair> sphere_pairs;  // of each pair of the problem
-  // A pair is constrained; in the almost-rigid model it also attracts, while within
-  // Delta_W (3.30) — a link (an adhesive bond, which this model never breaks) at any
-  // distance, and may not stretch beyond (1 + bond_stretch) sigma. In the non-rigid model
-  // the attraction is the all-pairs term.
-  auto add = [&](int i, int j, double lambda, bool bond = false) {
-    const int a = variable[local.at(i)], b = variable[local.at(j)];
-    if (a == b) return;  // within one rigid part (or a sphere with itself)
-    if (!index.emplace(key(i, j), static_cast<int>(prob.pairs.size())).second) return;
-    DahaPair<D> q = make_pair(ctx, i, j, a, b, lambda);
-    q.attract = local_attraction;
-    q.attract_within_range = local_attraction && !bond;
-    if (local_attraction && bond) q.stretch_limit = (1.0 + ctx.settings.bond_stretch) * q.sigma;
-    prob.pairs.push_back(q);
-    sphere_pairs.push_back({std::min(i, j), std::max(i, j), lambda});
-  };
-  for (int idx : g.pairs) add(ctx.S.pairs()[idx].i, ctx.S.pairs()[idx].j, ctx.S.pairs()[idx].lambda);
-  const std::size_t first_link = prob.pairs.size();
-  std::vector<SpherePair> links;
-  for (int i : spheres)
-    for (const LinkEnd& e : ctx.links.of(i)) {
-      if (variable[local.at(i)] == variable[local.at(e.other)]) continue;
-      links.push_back({i, e.other, e.lambda});
+// A pair is constrained; in the almost-rigid model it also attracts, while within Delta_W
+// (3.30) — a link (an adhesive bond, which this model never breaks) at any distance, and
+// may not stretch beyond (1 + bond_stretch) sigma. In the non-rigid model the attraction
+// is the all-pairs term.
+template <int D>
+void PerSphereProblem<D>::add(int i, int j, double lambda, bool bond) {
+  const int a = variable_[local_.at(i)], b = variable_[local_.at(j)];
+  if (a == b) return;  // within one rigid part (or a sphere with itself)
+  if (!index_.emplace(key(i, j), static_cast<int>(prob_.pairs.size())).second) return;
+  DahaPair<D> q = make_pair(ctx_, i, j, a, b, lambda);
+  q.attract = local_attraction_;
+  q.attract_within_range = local_attraction_ && !bond;
+  if (local_attraction_ && bond) q.stretch_limit = (1.0 + ctx_.settings.bond_stretch) * q.sigma;
+  prob_.pairs.push_back(q);
+  sphere_pairs_.push_back({std::min(i, j), std::max(i, j), lambda});
+}
+
+// S, then the old links and this step's links (the bodies' own, which hold their clusters
+// together like old links; their multipliers stay with the bodies), then every pair within
+// reach.
+template <int D>
+void PerSphereProblem<D>::add_pairs() {
+  for (int idx : g_.pairs) add(ctx_.S.pairs()[idx].i, ctx_.S.pairs()[idx].j, ctx_.S.pairs()[idx].lambda);
+  first_link_ = prob_.pairs.size();
+  for (int i : spheres_)
+    for (const LinkEnd& e : ctx_.links.of(i)) {
+      if (variable_[local_.at(i)] == variable_[local_.at(e.other)]) continue;
+      links_.push_back({i, e.other, e.lambda});
       add(i, e.other, e.lambda, true);
     }
-  // This step's links (the bodies' own) hold their clusters together like old links; their
-  // multipliers stay with the bodies.
-  for (int body : g.bodies)
-    for (const SpherePair& l : ctx.bodies.links_of(body)) add(l.i, l.j, l.lambda, true);
-  const std::size_t last_link = prob.pairs.size();
-  for (std::size_t a = 0; a < x.size(); ++a)
-    cells.for_each_near(x[a], [&](int b) {
-      if (b > static_cast<int>(a) && s.box.separation(x[a], x[b]).squaredNorm() <= reach * reach)
-        add(spheres[a], spheres[b], 0.0);
+  for (int body : g_.bodies)
+    for (const SpherePair& l : ctx_.bodies.links_of(body)) add(l.i, l.j, l.lambda, true);
+  last_link_ = prob_.pairs.size();
+  for (std::size_t a = 0; a < x_.size(); ++a)
+    cells_.for_each_near(x_[a], [&](int b) {
+      if (b > static_cast<int>(a) && s_.box.separation(x_[a], x_[b]).squaredNorm() <= reach_ * reach_)
+        add(spheres_[a], spheres_[b], 0.0);
     });
+}
 
+template <int D>
+GroupSolution<D> PerSphereProblem<D>::solve() {
   GroupSolution<D> out;
   std::vector<Vec<D>> u;
-  if (ctx.sink) ctx.sink->record(prob);
-  out.result = minimise(prob, ctx.settings.daha, u, ctx.guard);
-  out.n_variables = static_cast<int>(mass.size());
-  out.link_stretch = largest_stretch(prob, u, first_link, last_link);
-  for (SpherePair& l : links) l.lambda = prob.pairs[index.at(key(l.i, l.j))].lambda;
-  out.old_links = std::move(links);
-  for (const SpherePair& c : touching_pairs(prob, sphere_pairs, u, ctx.settings.daha.eps_c)) {
-    const int k = index.at(key(c.i, c.j));
-    if (k < static_cast<int>(first_link) || k >= static_cast<int>(last_link)) out.contacts.push_back(c);
+  if (ctx_.sink) ctx_.sink->record(prob_);
+  out.result = minimise(prob_, ctx_.settings.daha, u, ctx_.guard);
+  out.n_variables = static_cast<int>(mass_.size());
+  out.link_stretch = largest_stretch(prob_, u, first_link_, last_link_);
+  for (SpherePair& l : links_) l.lambda = prob_.pairs[index_.at(key(l.i, l.j))].lambda;
+  out.old_links = std::move(links_);
+  for (const SpherePair& c : touching_pairs(prob_, sphere_pairs_, u, ctx_.settings.daha.eps_c)) {
+    const int k = index_.at(key(c.i, c.j));
+    if (k < static_cast<int>(first_link_) || k >= static_cast<int>(last_link_)) out.contacts.push_back(c);
   }
-  for (std::size_t a = 0; a < spheres.size(); ++a) {
-    const Vec<D> shift = u[variable[a]] * ctx.length_scale;
+  for (std::size_t a = 0; a < spheres_.size(); ++a) {
+    const Vec<D> shift = u[variable_[a]] * ctx_.length_scale;
     if (shift == Vec<D>::Zero()) continue;
-    out.spheres.push_back(spheres[a]);
+    out.spheres.push_back(spheres_[a]);
     out.shift.push_back(shift);
   }
   return out;
 }
 
+template <int D>
+GroupSolution<D> solve_per_sphere(const StepView<D>& ctx, const CollisionGroup& g) {
+  PerSphereProblem<D> problem(ctx, g);
+  return problem.solve();
+}
+
 }  // namespace
 
 template <int D>
-GroupSolution<D> solve_group(const ProblemContext<D>& ctx, const CollisionGroup& group) {
+GroupSolution<D> solve_group(const StepView<D>& ctx, const CollisionGroup& group) {
   if (ctx.settings.model == TsModel::rigid) return solve_rigid(ctx, group);
   return solve_per_sphere(ctx, group);
 }
 
-template GroupSolution<2> solve_group<2>(const ProblemContext<2>&, const CollisionGroup&);
-template GroupSolution<3> solve_group<3>(const ProblemContext<3>&, const CollisionGroup&);
+template GroupSolution<2> solve_group<2>(const StepView<2>&, const CollisionGroup&);
+template GroupSolution<3> solve_group<3>(const StepView<3>&, const CollisionGroup&);
 
 }  // namespace ballagg

@@ -24,6 +24,7 @@
 #include "ballagg/engines/time_stepping/daha.hpp"
 #include "ballagg/engines/time_stepping/group_marks.hpp"
 #include "ballagg/engines/time_stepping/step_bodies.hpp"
+#include "ballagg/engines/time_stepping/step_view.hpp"
 #include "ballagg/spatial/movable_cell_list.hpp"
 
 namespace ballagg {
@@ -41,33 +42,13 @@ struct GroupSolution {
   std::vector<SpherePair> contacts;    // pairs touching in the solution: the new links
 };
 
-// Everything the builder reads; shared by all groups of a step (read-only).
 template <int D>
-struct ProblemContext {
-  const State<D>& state;
-  const std::vector<Vec<D>>& positions;  // current sphere centres (folded into the box), as in the state
-  const std::vector<Vec<D>>& step_shift; // per sphere: how far this step's minimisations moved it
-  const std::vector<Vec<D>>& flight;     // per cluster: how far this step's free flight moved it
-  const StepBodies& bodies;              // the clusters of the step joined by its links
-  const MovableCellList<D>& cells;       // every sphere, binned at most cell_slack from `positions`
-  double cell_slack;
-  const AdhesiveSet& S;
-  const AdhesiveLinks& links;
-  const TimeSteppingSettings& settings;
-  double length_scale;                   // mean contact distance 2 <R>
-  double delta_w;                        // resolved Delta_W
-  double mean_mass;
-  DahaProblemSink<D>* sink = nullptr;    // sees every problem before it is solved (tuning)
-  const RunGuard* guard = nullptr;       // the run's: cuts long minimisations short
-};
-
-template <int D>
-GroupSolution<D> solve_group(const ProblemContext<D>& ctx, const CollisionGroup& group);
+GroupSolution<D> solve_group(const StepView<D>& ctx, const CollisionGroup& group);
 
 // The clusters of a group's bodies, each with the index of its body in group.bodies,
 // in the order of the bodies.
 template <int D>
-std::vector<std::pair<std::int32_t, std::int32_t>> clusters_of_group(const ProblemContext<D>& ctx,
+std::vector<std::pair<std::int32_t, std::int32_t>> clusters_of_group(const StepView<D>& ctx,
                                                                      const CollisionGroup& g) {
   std::vector<std::pair<std::int32_t, std::int32_t>> out;
   for (std::size_t b = 0; b < g.bodies.size(); ++b)
@@ -77,14 +58,15 @@ std::vector<std::pair<std::int32_t, std::int32_t>> clusters_of_group(const Probl
 
 // The index in group.bodies of the body of sphere i, or -1 when it is not in the group.
 template <int D>
-int body_index(const ProblemContext<D>& ctx, const CollisionGroup& g, int i) {
+int body_index(const StepView<D>& ctx, const CollisionGroup& g, int i) {
   const int body = ctx.bodies.body_of(ctx.state.spheres.cluster[i]);
   const auto it = std::lower_bound(g.bodies.begin(), g.bodies.end(), body);
   return it != g.bodies.end() && *it == body ? static_cast<int>(it - g.bodies.begin()) : -1;
 }
 
 // Clusters of up to this many spheres are small: the neighbourhood of all their spheres is
-// searched when a group is built or repaired.
+// searched when a group is built or repaired (a larger cluster moves little in a step, as
+// its speed falls with its mass, and its neighbours are found by the next round).
 inline constexpr int kSmallClusterSize = 32;
 
 // Calls f(i, j, b) for every sphere i of a queried cluster of the group's bodies and every
@@ -98,7 +80,7 @@ inline constexpr int kSmallClusterSize = 32;
 // Which clusters of a group for_each_neighbour_of_group queries.
 template <int D>
 struct QueriedClusters {
-  QueriedClusters(const ProblemContext<D>& ctx, const CollisionGroup& g, int size_limit)
+  QueriedClusters(const StepView<D>& ctx, const CollisionGroup& g, int size_limit)
       : s(ctx.state), clusters(clusters_of_group(ctx, g)), largest(clusters.front().first), max_size(size_limit) {
     for (const auto& [c, b] : clusters)
       if (s.clusters[c].size() > s.clusters[largest].size()) largest = c;
@@ -114,7 +96,7 @@ struct QueriedClusters {
 };
 
 template <int D, class F>
-void for_each_neighbour_of_group(const ProblemContext<D>& ctx, const CollisionGroup& g, double reach, int max_size,
+void for_each_neighbour_of_group(const StepView<D>& ctx, const CollisionGroup& g, double reach, int max_size,
                                  F&& f) {
   const State<D>& s = ctx.state;
   const QueriedClusters<D> queried(ctx, g, max_size);
@@ -136,7 +118,7 @@ void for_each_neighbour_of_group(const ProblemContext<D>& ctx, const CollisionGr
   }
 }
 
-extern template GroupSolution<2> solve_group<2>(const ProblemContext<2>&, const CollisionGroup&);
-extern template GroupSolution<3> solve_group<3>(const ProblemContext<3>&, const CollisionGroup&);
+extern template GroupSolution<2> solve_group<2>(const StepView<2>&, const CollisionGroup&);
+extern template GroupSolution<3> solve_group<3>(const StepView<3>&, const CollisionGroup&);
 
 }  // namespace ballagg

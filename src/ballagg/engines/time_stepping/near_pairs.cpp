@@ -10,7 +10,8 @@ namespace ballagg {
 namespace {
 
 // When a refresh would query more than this fraction of the spheres, the whole box is
-// scanned instead (a half stencil over cells, cheaper per sphere than a query per sphere).
+// scanned instead (a half stencil over cells, cheaper per sphere than a query per sphere,
+// by about this factor).
 constexpr double kFullScanFraction = 0.25;
 
 template <class Pair>
@@ -20,8 +21,7 @@ bool pair_equal(const Pair& a, const Pair& b) {
 
 // The pairs found by the threads, sorted and without repeats, in `out`: each thread's
 // list sorted on its own thread, then the lists merged. The same list whatever the number
-// of threads; a sort of the whole list on one thread was a tenth of the serial part of a
-// step early in a run of 10^6.
+// of threads, and the sorting shared among them.
 template <class Pair>
 void sorted_union(std::vector<std::vector<Pair>>& parts, std::vector<Pair>& out) {
   const int n_parts = static_cast<int>(parts.size());
@@ -123,13 +123,12 @@ std::vector<SpherePair> NearPairs<D>::contacts(const State<D>& s, const std::vec
 }
 
 // Tests the listed pairs; those now inside one cluster (merged) are dropped for good. In
-// pieces of kTestPiece pairs, on several threads when they are many (early in a run of
-// 10^6 the list holds millions): each piece keeps its pairs at its own start and finds
-// its touching pairs, and the pieces are then joined in order, as one loop would have left
-// them.
+// pieces of kTestPiece pairs, on several threads when they are many (the list of a large
+// run holds millions): each piece keeps its pairs at its own start and finds its touching
+// pairs, and the pieces are then joined in order, as one loop would leave them.
 template <int D>
 std::vector<SpherePair> NearPairs<D>::test_listed(const State<D>& s, const std::vector<Vec<D>>& positions) {
-  constexpr std::size_t kTestPiece = 1 << 16;
+  constexpr std::size_t kTestPiece = 1 << 16;  // pairs per piece: enough to outweigh a task's start
   const std::size_t n_pairs = pairs_.size();
   const std::int64_t n_pieces = static_cast<std::int64_t>((n_pairs + kTestPiece - 1) / kTestPiece);
   std::vector<std::size_t> kept(n_pieces, 0);

@@ -12,23 +12,22 @@ namespace ballagg {
 namespace {
 
 // At most this many tiles in all (2^16: 256 x 256 in 2D, 40^3 in 3D): the grid is cleared
-// once per call.
+// once per call, so it stays small next to the repairs it orders.
 constexpr double kMaxTiles = 65536.0;
 
-// Regions of at least this many groups are found on several threads (a region costs about
-// 8 us: the spheres of the group, read at scattered places).
+// Regions of at least this many groups are found on several threads (a region reads the
+// spheres of its group at scattered places: worth sharing from a few dozen groups).
 constexpr std::int64_t kParallelRegions = 64;
 
-// Tiles across a typical region (the median width). At N = 10^6 (2D, Vf 0.3, second step)
-// tiles as wide as a region put 13 982 repairs in 153 waves, four per region in 84: finer
-// tiles tell more regions apart, at (kTilesPerRegion + 1)^D tiles marked per region.
+// Tiles across a typical region (the median width): finer tiles tell more regions apart,
+// so fewer waves, at (kTilesPerRegion + 1)^D tiles marked per region.
 constexpr double kTilesPerRegion = 4.0;
 
 // Where the group's spheres are now and where free flight put them, widened by twice the
 // group's longest flight and by two contact distances (one is enough; the second leaves
 // round-off no say).
 template <int D>
-Region<D> region_of(const ProblemContext<D>& ctx, const CollisionGroup& g) {
+Region<D> region_of(const StepView<D>& ctx, const CollisionGroup& g) {
   const State<D>& s = ctx.state;
   const auto clusters = clusters_of_group(ctx, g);
   const Vec<D> origin = ctx.positions[s.clusters[clusters.front().first].members.front()];
@@ -140,16 +139,15 @@ std::vector<std::vector<std::size_t>> waves_of_regions(const std::vector<Region<
 }
 
 template <int D>
-std::vector<std::vector<std::size_t>> repair_waves(const ProblemContext<D>& ctx, const std::vector<CollisionGroup>& groups,
+std::vector<std::vector<std::size_t>> repair_waves(const StepView<D>& ctx, const std::vector<CollisionGroup>& groups,
                                                    const std::vector<std::size_t>& unsolved) {
   if (unsolved.size() <= 1) {
     if (unsolved.empty()) return {};
     return {unsolved};
   }
   const std::vector<std::size_t> order = repair_order(groups, unsolved);
-  // A region reads every sphere of its group's clusters, twice: early in a run of 10^6 a
-  // round has thousands of groups to repair, and their regions were 3 % of the run on one
-  // thread while the other waited. Each region is its own, so they are found at once.
+  // A region reads every sphere of its group's clusters, twice, and a round may have
+  // thousands of groups to repair. Each region is its own, so they are found at once.
   const std::int64_t n = static_cast<std::int64_t>(order.size());
   std::vector<Region<D>> regions(order.size());
 #pragma omp parallel for schedule(dynamic, 16) if (n >= kParallelRegions)
@@ -162,9 +160,9 @@ std::vector<std::vector<std::size_t>> repair_waves(const ProblemContext<D>& ctx,
 
 template std::vector<std::vector<std::size_t>> waves_of_regions<2>(const std::vector<Region<2>>&, const Box<2>&);
 template std::vector<std::vector<std::size_t>> waves_of_regions<3>(const std::vector<Region<3>>&, const Box<3>&);
-template std::vector<std::vector<std::size_t>> repair_waves<2>(const ProblemContext<2>&, const std::vector<CollisionGroup>&,
+template std::vector<std::vector<std::size_t>> repair_waves<2>(const StepView<2>&, const std::vector<CollisionGroup>&,
                                                                const std::vector<std::size_t>&);
-template std::vector<std::vector<std::size_t>> repair_waves<3>(const ProblemContext<3>&, const std::vector<CollisionGroup>&,
+template std::vector<std::vector<std::size_t>> repair_waves<3>(const StepView<3>&, const std::vector<CollisionGroup>&,
                                                                const std::vector<std::size_t>&);
 
 }  // namespace ballagg

@@ -3,8 +3,8 @@
 //
 // The groups of a round that the minimisation did not solve are repaired (retreat.hpp,
 // flight_sweep.hpp) one after the other, each seeing where the earlier repairs left their
-// spheres. At N = 10^6 the first steps send thousands of groups per round to the fall-back,
-// and done so they were a third of a run on two threads (17 of 49 s), on one of them.
+// spheres. The first steps of a large run send thousands of groups per round to the
+// fall-back, which, done so, would leave every thread but one idle.
 //
 // A repair touches only a neighbourhood of its group. Every cluster of the group stays
 // within 2 F of where free flight put it, F the group's longest flight in the step: it goes
@@ -18,10 +18,10 @@
 //
 // The order of the repairs is a choice: any order is one group after the other, each
 // seeing the earlier ones. Group order follows the ids of the clusters, which at the
-// lattice start follow the rows of the lattice: each group's region met the next one's,
-// and the repairs formed a chain (N = 10^6, second step: 13 971 repairs, 3041 waves, the
-// first hundreds of one repair each). They are taken instead in an order scrambled by a
-// hash of each group's first body, in which neighbours seldom follow each other.
+// lattice start follow the rows of the lattice: each group's region would meet the next
+// one's, and the repairs would form a chain of waves of one repair each. They are taken
+// instead in an order scrambled by a hash of each group's first body, in which neighbours
+// seldom follow each other.
 //
 // repair_waves puts each group in the wave after the last wave holding a group earlier in
 // that order whose region meets its own. Run wave by wave, the groups of a wave at once,
@@ -51,15 +51,15 @@ std::vector<std::vector<std::size_t>> waves_of_regions(const std::vector<Region<
 // The waves for the groups listed in `unsolved` (indices into groups), each wave in the
 // order of the repairs.
 template <int D>
-std::vector<std::vector<std::size_t>> repair_waves(const ProblemContext<D>& ctx, const std::vector<CollisionGroup>& groups,
+std::vector<std::vector<std::size_t>> repair_waves(const StepView<D>& ctx, const std::vector<CollisionGroup>& groups,
                                                    const std::vector<std::size_t>& unsolved);
 
 extern template std::vector<std::vector<std::size_t>> waves_of_regions<2>(const std::vector<Region<2>>&, const Box<2>&);
 extern template std::vector<std::vector<std::size_t>> waves_of_regions<3>(const std::vector<Region<3>>&, const Box<3>&);
-extern template std::vector<std::vector<std::size_t>> repair_waves<2>(const ProblemContext<2>&,
+extern template std::vector<std::vector<std::size_t>> repair_waves<2>(const StepView<2>&,
                                                                       const std::vector<CollisionGroup>&,
                                                                       const std::vector<std::size_t>&);
-extern template std::vector<std::vector<std::size_t>> repair_waves<3>(const ProblemContext<3>&,
+extern template std::vector<std::vector<std::size_t>> repair_waves<3>(const StepView<3>&,
                                                                       const std::vector<CollisionGroup>&,
                                                                       const std::vector<std::size_t>&);
 

@@ -34,7 +34,7 @@ inline double retreat_tolerance(const DahaParameters& p) { return 0.5 * p.eps_c;
 // spheres outside the group (see for_each_neighbour_of_group), nor are those of any other
 // cluster of more than kOutsideSearchedClusterSize spheres.
 // The spheres of a cluster of the group up to this size are listed directly as partners
-// of a retreating sphere (cheaper than a search in the cell list).
+// of a retreating sphere (for so few, cheaper than a search in the cell list).
 inline constexpr int kListedClusterSize = 64;
 
 // The fall-backs (this retreat and the sweep that follows it, flight_sweep.hpp) search the
@@ -43,9 +43,8 @@ inline constexpr int kListedClusterSize = 64;
 // as its mass grows), so what it meets outside the group along its short path is left to
 // the next round of (3.1)-(3.2), as for the group's largest cluster: an overlap it leaves
 // there is a new contact of that round. Its spheres are still checked against every other
-// cluster of the group. At N = 10^6 (2D, Vf 0.3, dt_factor 0.005) over half of the
-// retreating spheres are in such clusters, and the searches of their paths outside the
-// group cost 5-9 % of a run (docs/performance.md, "Session 28").
+// cluster of the group. In a large run many retreating spheres are in such clusters, and
+// searching their paths outside the group would cost more than the rounds it spares.
 inline constexpr int kOutsideSearchedClusterSize = 64;
 
 // Whether the fall-backs search the paths of cluster c's spheres for spheres outside the group.
@@ -70,7 +69,7 @@ struct RetreatStart {
 };
 
 template <int D>
-std::vector<RetreatStart<D>> retreat_starts(const ProblemContext<D>& ctx,
+std::vector<RetreatStart<D>> retreat_starts(const StepView<D>& ctx,
                                             const std::vector<std::pair<std::int32_t, std::int32_t>>& clusters) {
   const State<D>& s = ctx.state;
   std::vector<RetreatStart<D>> out;
@@ -109,14 +108,14 @@ struct Retreat {
 };
 
 template <int D>
-Retreat<D> retreat_group(const ProblemContext<D>& ctx, const CollisionGroup& group, bool with_candidates = false);
+Retreat<D> retreat_group(const StepView<D>& ctx, const CollisionGroup& group, bool with_candidates = false);
 
 template <int D>
-GroupSolution<D> place_at_contact(const ProblemContext<D>& ctx, const CollisionGroup& group) {
+GroupSolution<D> place_at_contact(const StepView<D>& ctx, const CollisionGroup& group) {
   return retreat_group(ctx, group).solution;
 }
 
-extern template Retreat<2> retreat_group<2>(const ProblemContext<2>&, const CollisionGroup&, bool);
-extern template Retreat<3> retreat_group<3>(const ProblemContext<3>&, const CollisionGroup&, bool);
+extern template Retreat<2> retreat_group<2>(const StepView<2>&, const CollisionGroup&, bool);
+extern template Retreat<3> retreat_group<3>(const StepView<3>&, const CollisionGroup&, bool);
 
 }  // namespace ballagg

@@ -28,31 +28,32 @@ enum class TsFallBack {
   keep_flight,  // the same, then on to the end of the step, merging at each contact (flight_sweep.hpp)
 };
 
-// The defaults below are the rigid model's, tuned on the problems of a run of N = 10^6
-// (docs/time_stepping.md, "Parameters"); default_daha gives each model its own.
+// The defaults below are the rigid model's: the values that solve the minimisation
+// problems recorded from large rigid runs in the fewest iterations (bench/daha_tune;
+// docs/time_stepping.md, "Parameters"). default_daha gives each model its own.
 struct DahaParameters {
   double alpha = 0.0531;      // alpha~ of (3.21): weight of the Lagrangian gradient in a velocity update
   double gamma = 0.158;       // gamma~ of (3.21): weight of the phi * lambda * grad phi term
-  double delta = 5.95;      // delta of (3.20), (3.23): the artificial time step
+  double delta = 5.95;        // delta of (3.20), (3.23): the artificial time step
   double c_bar = 0.018;       // c-bar of (3.29): damping scale
   double c_min = 0.694;       // lower bound of c_i: keeps the dynamics damped (stability, docs)
   double c_max = 0.694;       // upper bound of the damping c_i (1 would freeze the spheres)
   double beta_bar = 0.602;    // beta-bar of (3.29): multiplier growth scale
   double beta_max = 0.345;    // upper bound of beta (reached when no constraint is violated)
-  double lambda0 = 0.199;    // lambda of (3.26): initial multiplier per unit overlap phi
-  double eps_s = 1e-4;      // (3.27): largest move of a sphere in one iteration, in diameters
-  double eps_c = 1e-3;      // (3.28): largest relative overlap left, 1 - d / (R_i + R_j)
+  double lambda0 = 0.199;     // lambda of (3.26): initial multiplier per unit overlap phi
+  double eps_s = 1e-4;        // (3.27): largest move of a sphere in one iteration, in diameters
+  double eps_c = 1e-3;        // (3.28): largest relative overlap left, 1 - d / (R_i + R_j)
   int max_iterations = 3000;  // per minimisation; reaching it is counted, not an error
   // A minimisation whose worst constraint violation (above eps_c) has not fallen below 0.9
   // of its best for this many iterations is given up (0: never): it is not converging.
   int stall_iterations = 310;
 };
 
-// The DAHA defaults of a cluster model. The per-sphere models keep the set tuned before
-// session 21 on rigid problems up to N = 10^5: their answers depend on where a minimisation
-// stops (the non-rigid attraction (3.5) has no minimum short of a collapsed cluster), and
-// the rigid model's set made their clusters more compact, further from the event-driven
-// ones (docs/validation.md, "The DAHA defaults of session 21").
+// The DAHA defaults of a cluster model. The per-sphere models have a set of their own,
+// tuned on smaller rigid problems: their answers depend on where a minimisation stops (the
+// non-rigid attraction (3.5) has no minimum short of a collapsed cluster), and the rigid
+// model's set makes their clusters more compact, further from the event-driven ones
+// (docs/validation.md).
 inline DahaParameters default_daha(TsModel model) {
   DahaParameters p;
   if (model == TsModel::rigid) return p;
@@ -81,11 +82,10 @@ struct TimeSteppingSettings {
   // Rigid model: a group goes to the fall-back at once, without a minimisation, when it
   // has at least retreat_pairs pairs of S (clusters flown deep into each other) or when a
   // pair of S overlaps by at least retreat_overlap (1 - d / (R_i + R_j): a sphere flew
-  // through another). Measured at N = 10^6 (docs/time_stepping.md): such minimisations
-  // seldom converge there and were most of the run's cost; with the keep-flight fall-back,
-  // 16 pairs made N = 10^6 a fifth faster than 64 and changed nothing at N = 10^4. The
-  // overlap rule is off by default (1: only centres that coincide): at N = 10^4 the DAHA
-  // does solve such pairs, and the rule would change the paper's method at its own sizes.
+  // through another). Such minimisations seldom converge and would cost most of a large
+  // run (docs/time_stepping.md). The overlap rule is off by default (1: only centres that
+  // coincide): at the paper's sizes the DAHA does solve such pairs, and the rule would
+  // change the paper's method there.
   double retreat_overlap = 1.0;
   int retreat_pairs = 16;
   TsFallBack fall_back = TsFallBack::keep_flight;

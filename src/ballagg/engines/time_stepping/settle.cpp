@@ -1,0 +1,69 @@
+// What the time-stepping engine (ts_engine.hpp) does when the loop (3.1)-(3.2) gives up
+// with pairs still overlapping: the clusters of the deeper ones retreat together along
+// their flights until nothing is left overlapping, and the pairs left touching are links.
+#include <algorithm>
+
+#include "ballagg/engines/time_stepping/retreat.hpp"
+#include "ballagg/engines/time_stepping/ts_engine.hpp"
+
+namespace ballagg {
+
+// When the loop gives up (out of rounds, a repeating round, a round that changes nothing)
+// with pairs still overlapping: pairs touching within eps_c become links; the clusters of
+// the deeper ones, and every cluster linked to them in this step, retreat together along
+// their flights (place_at_contact of one group), and the spheres that retreat finds in
+// their way join the group and the retreat is made again, until it leaves no overlap
+// beyond eps_c. It ends: the group only grows, and a group of every cluster that moved in
+// the step returns to the start of the step, where no two clusters overlapped. The pairs
+// it leaves touching are links, so the clusters merge and the run goes on.
+//
+// Left apart, such an overlap would outlive the step: neither a minimisation nor a retreat
+// (which goes back at most to the start of the step) could separate it at a later step,
+// and the run would stop making progress. Merged where they are, deep overlaps would be
+// frozen into the aggregates.
+template <int D>
+void TimeSteppingEngine<D>::settle(const State<D>& s, const std::vector<SpherePair>& left) {
+  const double eps_c = settings_.daha.eps_c;
+  auto deep = [&](const SpherePair& p) {
+    const double sigma = s.spheres.radius[p.i] + s.spheres.radius[p.j];
+    return 1.0 - s.box.separation(positions_[p.i], positions_[p.j]).norm() / sigma > eps_c;
+  };
+  std::vector<std::int32_t> retreating;  // clusters, sorted
+  for (const SpherePair& p : left)
+    if (deep(p))
+      for (int i : {p.i, p.j}) retreating.push_back(s.spheres.cluster[i]);
+  sort_unique(retreating);
+  std::vector<std::int32_t> group_clusters;  // sorted
+  std::vector<int> settled;                  // spheres moved by the retreats
+  std::vector<SpherePair> contacts;
+  while (!retreating.empty()) {
+    // Every cluster linked to a retreating one in this step retreats with it: where their
+    // flights started, they were free of each other.
+    for (int c : retreating) {
+      const int body = bodies_.body_of(c);
+      for (int k : bodies_.clusters_of(body)) group_clusters.push_back(k);
+      bodies_.dissolve(body);
+    }
+    sort_unique(group_clusters);
+    const GroupSolution<D> solution = place_at_contact(view(s), CollisionGroup{group_clusters, {}});
+    std::vector<int> moved(solution.spheres.begin(), solution.spheres.end());
+    apply(s, solution, settled);
+    contacts = solution.contacts;
+    // Only what moved now can overlap anything new: nothing outside the group moves here.
+    retreating = clusters_overlapping_outside(s, moved, group_clusters);
+  }
+  moved_in_step_.insert(moved_in_step_.end(), settled.begin(), settled.end());
+  for (const SpherePair& p : contacts) bodies_.link(p, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
+  // The pairs that were only touching are links, unless one of their clusters retreated.
+  auto retreated = [&](int i) {
+    return std::binary_search(group_clusters.begin(), group_clusters.end(), s.spheres.cluster[i]);
+  };
+  for (const SpherePair& p : left)
+    if (!deep(p) && !retreated(p.i) && !retreated(p.j))
+      bodies_.link(p, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
+}
+
+template void TimeSteppingEngine<2>::settle(const State<2>&, const std::vector<SpherePair>&);
+template void TimeSteppingEngine<3>::settle(const State<3>&, const std::vector<SpherePair>&);
+
+}  // namespace ballagg
