@@ -106,7 +106,7 @@ class Plot : public ::testing::Test {
     if (how == "pdf") args.insert(args.end(), {"--format", "pdf"});
     if (how == "svg")
       args.insert(args.end(), {"--format", "svg", "--style",
-                               dir_->write("mine.mplstyle", "axes.facecolor: 123456\n").string()});
+                               dir_->write("mine.mplstyle", "axes.facecolor: 1a2b3c\n").string()});
     if (how == "small") args.insert(args.end(), {"--dpi", "50", "--size", "2x1.5"});
     const auto o = plot(args);
     EXPECT_EQ(o.status, 0) << o.err;
@@ -182,7 +182,7 @@ TEST_F(Plot, DpiAndSizeSetThePixelsExactly) {
 TEST_F(Plot, StyleFileIsAppliedOnTopOfTheDefaults) {
   // The SVG is drawn with a style file setting the panels' colour.
   const std::string svg = slurp(drawn("svg") / "mass_spectrum.svg");
-  EXPECT_NE(svg.find("fill: #123456"), std::string::npos);
+  EXPECT_NE(svg.find("fill: #1a2b3c"), std::string::npos);
   // The defaults stay where the style says nothing: 7 pt tick labels.
   EXPECT_NE(svg.find("font: 7px"), std::string::npos);
 }
