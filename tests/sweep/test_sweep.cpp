@@ -349,16 +349,19 @@ TEST(PlotCli, DrawsTheFiguresOfASweep) {
 }
 
 TEST(SweepFile, CommittedSweepFilesAreValid) {
-  // bench/paper_table1_*.toml: the reproduction of docs/validation.md must stay runnable.
+  // bench/paper_table1_*.toml (the reproduction of docs/validation.md) and the README's
+  // examples/sweeps/ must stay runnable.
   int seen = 0;
-  for (const auto& entry : fs::directory_iterator(std::string(BALLAGG_SOURCE_DIR) + "/bench")) {
-    if (entry.path().extension() != ".toml") continue;
-    SCOPED_TRACE(entry.path().string());
-    const ballagg::SweepSpec spec = ballagg::load_sweep(entry.path().string());
-    EXPECT_FALSE(ballagg::sweep_runs(spec, ballagg::sweep_points(spec)).empty());
-    ++seen;
+  for (const char* folder : {"/bench", "/examples/sweeps"}) {
+    for (const auto& entry : fs::directory_iterator(std::string(BALLAGG_SOURCE_DIR) + folder)) {
+      if (entry.path().extension() != ".toml") continue;
+      SCOPED_TRACE(entry.path().string());
+      const ballagg::SweepSpec spec = ballagg::load_sweep(entry.path().string());
+      EXPECT_FALSE(ballagg::sweep_runs(spec, ballagg::sweep_points(spec)).empty());
+      ++seen;
+    }
   }
-  EXPECT_GE(seen, 2);
+  EXPECT_GE(seen, 3);
 }
 
 // Found while writing the fuzz targets: toml++ recursed over a dotted key 100000 parts
