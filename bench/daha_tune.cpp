@@ -99,7 +99,7 @@ void record(const Config& given, std::ostream& out, int every) {
   RunObserver<D> none;
   const RunResult r = make_time_stepping_engine<D>(c.ts, &sink)->run(s, stop_criteria(c), none);
   std::cerr << fmt::format("recorded every {}th of {} minimisations ({} steps, {:.1f} s)\n", every,
-                           r.counters.minimisations, r.counters.steps, r.wall_seconds);
+                           r.count("minimisations"), r.counters.steps, r.wall_seconds);
 }
 
 // What replaying costs: work counts pair and variable updates (iterations times the size of

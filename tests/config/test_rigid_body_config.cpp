@@ -52,21 +52,21 @@ aggregated_fraction = 0.99
 )", "every.toml");
   EXPECT_EQ(c.engine.kind, EngineKind::rigid_body);
   EXPECT_EQ(c.collision.outcome, CollisionOutcome::energy_threshold);
-  EXPECT_EQ(c.collision.coagulation, Coagulation::aggregate);
-  EXPECT_EQ(c.collision.restitution_law, RestitutionLaw::bridges);
-  EXPECT_EQ(c.collision.velocity_unit, 0.01);
-  EXPECT_EQ(c.collision.mu_t, 0.2);
-  EXPECT_EQ(c.collision.mu_p, -0.1);
-  EXPECT_EQ(c.collision.energy_threshold, 3.5);
-  EXPECT_EQ(c.collision.fragmentation_energy, 40.0);
+  EXPECT_EQ(c.rigid_body.coagulation, Coagulation::aggregate);
+  EXPECT_EQ(c.rigid_body.restitution_law, RestitutionLaw::bridges);
+  EXPECT_EQ(c.rigid_body.velocity_unit, 0.01);
+  EXPECT_EQ(c.rigid_body.mu_t, 0.2);
+  EXPECT_EQ(c.rigid_body.mu_p, -0.1);
+  EXPECT_EQ(c.rigid_body.energy_threshold, 3.5);
+  EXPECT_EQ(c.rigid_body.fragmentation_energy, 40.0);
   EXPECT_EQ(c.stop.aggregated_fraction, 0.99);
   const Config sphere = parse_config_text(std::string(kRigid) +
                                               "[collision]\ncoagulation = \"sphere\"\nmerged_radius = \"fixed\"\n"
                                               "constant_speed = true\n",
                                           "t");
-  EXPECT_EQ(sphere.collision.coagulation, Coagulation::sphere);
-  EXPECT_EQ(sphere.collision.merged_radius, MergedRadius::fixed);
-  EXPECT_TRUE(sphere.collision.constant_speed);
+  EXPECT_EQ(sphere.rigid_body.coagulation, Coagulation::sphere);
+  EXPECT_EQ(sphere.rigid_body.merged_radius, MergedRadius::fixed);
+  EXPECT_TRUE(sphere.rigid_body.constant_speed);
 }
 
 TEST(RigidBodyConfig, ResolvedConfigReadsBackToTheSameKeys) {
@@ -81,7 +81,7 @@ TEST(RigidBodyConfig, ResolvedConfigReadsBackToTheSameKeys) {
   EXPECT_EQ(text.find("restitution = "), std::string::npos);  // the Bridges law replaces it
   const Config again = parse_config_text(text, "resolved.toml");
   EXPECT_EQ(to_toml_text(again), text);
-  EXPECT_EQ(again.collision.velocity_unit, 0.5);
+  EXPECT_EQ(again.rigid_body.velocity_unit, 0.5);
   EXPECT_EQ(again.stop.aggregated_fraction, 0.5);
 }
 

@@ -283,10 +283,10 @@ TEST(Snapshots, EveryChangeOfTheSphereLayoutChangesItsVersion) {
   p.engine.kind = EngineKind::rigid_body;
   p.initial.velocities = InitialVelocities::gaussian;
   layout_version_follows_every_change<3>(p, "rigid-body");
-  p.collision.fragmentation_energy = 1e-3;
+  p.rigid_body.fragmentation_energy = 1e-3;
   layout_version_follows_every_change<3>(p, "rigid-body with fragmentation");
-  p.collision.fragmentation_energy.reset();
-  p.collision.coagulation = Coagulation::sphere;
+  p.rigid_body.fragmentation_energy.reset();
+  p.rigid_body.coagulation = Coagulation::sphere;
   layout_version_follows_every_change<3>(p, "rigid-body, sphere coagulation");
 }
 

@@ -109,7 +109,7 @@ template <int D>
 RunResult run_engine(State<D>& s, const std::string& engine, const CollisionSettings& law = {},
                      const StopCriteria& stop = {}, std::type_identity_t<RunObserver<D>>* observer = nullptr) {
   RunObserver<D> none;
-  auto e = engine == "ed" ? make_event_driven_engine<D>({law, 0.0}) : make_naive_event_driven_engine<D>(law);
+  auto e = engine == "ed" ? make_event_driven_engine<D>({law, std::nullopt}) : make_naive_event_driven_engine<D>({law, std::nullopt});
   return e->run(s, stop, observer ? *observer : none);
 }
 

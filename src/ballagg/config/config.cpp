@@ -214,7 +214,7 @@ Config read_config(const toml::table& root, const std::string& source, const std
   const auto restitution = col.real("restitution", [](double v) { return v >= 0.0 && v <= 1.0; }, "must be a number in [0, 1]");
   if (restitution) c.collision.restitution = *restitution;
   c.collision.tc_time = col.real("tc_time", [](double v) { return v >= 0.0; }, "must be a number >= 0");
-  const std::vector<std::string> rigid_keys = read_rigid_body_keys(col, c.collision);
+  const std::vector<std::string> rigid_keys = read_rigid_body_keys(col, c.rigid_body);
   col.reject_unknown_keys();
 
   SectionReader eng(root, "engine", source, overridden);

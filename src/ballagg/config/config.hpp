@@ -11,8 +11,8 @@
 
 #include "ballagg/core/box.hpp"
 #include "ballagg/core/input_error.hpp"
-#include "ballagg/engines/engine.hpp"
-#include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
+#include "ballagg/collision/collision_settings.hpp"
+#include "ballagg/engines/rigid_body/rigid_body_settings.hpp"
 #include "ballagg/engines/time_stepping/ts_settings.hpp"
 
 namespace ballagg {
@@ -40,24 +40,9 @@ struct InitialConfig {
   std::uint64_t seed = 1;
 };
 
-struct CollisionConfig {
-  CollisionOutcome outcome = CollisionOutcome::stick;
-  double restitution = 1.0;
-  std::optional<double> tc_time;  // default: kDefaultTcFraction * diameter / rms speed
-  // Rigid-body engine only (docs/rigid_body.md).
-  Coagulation coagulation = Coagulation::aggregate;
-  MergedRadius merged_radius = MergedRadius::constant_density;
-  bool constant_speed = false;  // sphere coagulation: merged spheres keep initial.speed (model i)
-  RestitutionLaw restitution_law = RestitutionLaw::constant;
-  double velocity_unit = 1.0;   // cm/s per unit of speed, for the Bridges law
-  double mu_t = 0.0, mu_p = 0.0;
-  std::optional<double> energy_threshold;      // default: initial mean kinetic energy per body
-  std::optional<double> fragmentation_energy;  // unset: no fragmentation
-};
-
 struct EngineConfig {
   EngineKind kind = EngineKind::ed;
-  std::optional<double> skin;     // default: the mean sphere radius
+  std::optional<double> skin;  // neighbour-list skin of ed and rigid-body; unset: the engine's default
 };
 
 struct StopConfig {
@@ -81,10 +66,13 @@ struct OutputConfig {
   double checkpoint_every = 300.0;   // wall seconds between checkpoints; 0: none (signals still write one)
 };
 
+// The engines' settings are members as the engines declare them: make_engine
+// (run/simulation.hpp) hands them over whole.
 struct Config {
   SystemConfig system;
   InitialConfig initial;
-  CollisionConfig collision;
+  CollisionSettings collision;  // [collision] outcome, restitution, tc_time: every engine's law
+  RigidBodyLaw rigid_body;      // the [collision] keys of the rigid-body engine
   EngineConfig engine;
   StopConfig stop;
   OutputConfig output;

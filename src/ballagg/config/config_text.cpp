@@ -39,7 +39,7 @@ std::vector<Section> entries(const Config& c) {
   if (c.collision.tc_time) collision.second.push_back({"tc_time", *c.collision.tc_time});
   const bool rigid = c.engine.kind == EngineKind::rigid_body;
   if (rigid) {
-    const CollisionConfig& k = c.collision;
+    const RigidBodyLaw& k = c.rigid_body;
     auto& keys = collision.second;
     keys.push_back({"coagulation", str(to_string(k.coagulation))});
     if (k.coagulation == Coagulation::sphere) {

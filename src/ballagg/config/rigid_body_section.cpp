@@ -10,7 +10,7 @@ namespace ballagg {
 
 // The [collision] keys of the rigid-body engine (docs/rigid_body.md). Returns the names of
 // those given, so that other engines can refuse them.
-std::vector<std::string> read_rigid_body_keys(SectionReader& col, CollisionConfig& k) {
+std::vector<std::string> read_rigid_body_keys(SectionReader& col, RigidBodyLaw& k) {
   std::vector<std::string> given;
   auto note = [&](const char* key, bool present) { if (present) given.push_back(key); };
   const auto coagulation = col.choice("coagulation", {"aggregate", "sphere"});
@@ -46,20 +46,21 @@ std::vector<std::string> read_rigid_body_keys(SectionReader& col, CollisionConfi
 // Rules between the rigid-body keys and the rest.
 void check_rigid_body_rules(const Config& c, const std::vector<std::string>& given, bool restitution_given) {
   const std::string& source = c.source;
-  const CollisionConfig& k = c.collision;
+  const RigidBodyLaw& k = c.rigid_body;
+  const CollisionOutcome outcome = c.collision.outcome;
   auto has = [&](const char* key) { return std::find(given.begin(), given.end(), key) != given.end(); };
   if (c.engine.kind != EngineKind::rigid_body) {
     if (!given.empty())
       throw InputError(fmt::format("{}: collision.{} is a key of the rigid-body engine: it needs engine.kind = "
                                    "\"rigid-body\"", source, given.front()));
-    if (k.outcome == CollisionOutcome::energy_threshold)
+    if (outcome == CollisionOutcome::energy_threshold)
       throw InputError(fmt::format("{}: collision.outcome = \"energy-threshold\" needs engine.kind = \"rigid-body\"",
                                    source));
     if (c.stop.aggregated_fraction)
       throw InputError(fmt::format("{}: stop.aggregated_fraction needs engine.kind = \"rigid-body\"", source));
     return;
   }
-  if (has("energy_threshold") && k.outcome != CollisionOutcome::energy_threshold)
+  if (has("energy_threshold") && outcome != CollisionOutcome::energy_threshold)
     throw InputError(fmt::format("{}: collision.energy_threshold is only used with collision.outcome = "
                                  "\"energy-threshold\"", source));
   if (k.coagulation != Coagulation::sphere) {

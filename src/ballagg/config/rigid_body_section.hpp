@@ -10,7 +10,7 @@
 namespace ballagg {
 
 // Reads them into k; returns the names of those given, so that other engines can refuse them.
-std::vector<std::string> read_rigid_body_keys(SectionReader& col, CollisionConfig& k);
+std::vector<std::string> read_rigid_body_keys(SectionReader& col, RigidBodyLaw& k);
 
 // Throws InputError when a rigid-body key is given for another engine, or the keys given
 // contradict each other or the collision outcome.

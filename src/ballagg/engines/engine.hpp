@@ -11,6 +11,7 @@
 #include "ballagg/collision/collision_settings.hpp"
 #include "ballagg/core/run_guard.hpp"
 #include "ballagg/core/state.hpp"
+#include "ballagg/engines/engine_counters.hpp"
 
 namespace ballagg {
 
@@ -55,37 +56,14 @@ struct EventRecord {
                                      // (time step: by the whole step)
 };
 
-struct EngineCounters {
-  std::int64_t events = 0;           // every event handled, list rebuilds included
-  std::int64_t collisions = 0;       // sphere-sphere contacts between different clusters
-  std::int64_t merges = 0;           // clusters absorbed (>= sticking collisions: cascades)
-  std::int64_t bounces = 0;
-  std::int64_t wall_bounces = 0;
-  std::int64_t list_rebuilds = 0;
-  std::int64_t rebuilt_spheres = 0;    // spheres re-binned by list rebuilds (work measure)
-  std::int64_t pair_predictions = 0;   // contact times computed (work measure)
-  std::int64_t queue_peak = 0;
-  // Time stepping.
-  std::int64_t steps = 0;
-  std::int64_t minimisations = 0;      // DAHA solves (one per connected group per round)
-  std::int64_t daha_iterations = 0;
-  std::int64_t placed_at_contact = 0;  // groups not converged in max_iterations, placed at first contact
-  std::int64_t link_rounds = 0;        // repetitions of (3.1)-(3.2) beyond the first
-  std::int64_t rounds_exhausted = 0;   // steps that reached max_link_rounds
-  double max_residual_overlap = 0.0;   // largest relative overlap left after any step
-  double max_link_stretch = 0.0;       // largest d / (R_i + R_j) - 1 of an old link after a step
-  // Rigid bodies.
-  std::int64_t first_time_collisions = 0;  // N_C1: collisions not repeating the bodies' previous pair
-  std::int64_t fragmentations = 0;         // catastrophic breakups (Richardson §2.6)
-  std::int64_t contact_searches = 0;       // contact_search events handled
-  std::int64_t advancement_steps = 0;      // conservative-advancement steps on rotating trajectories
-  std::int64_t pose_evaluations = 0;       // orientations computed by the free-rotation propagator
-};
-
 struct RunResult {
   StopReason reason = StopReason::clusters;
-  EngineCounters counters;
+  EngineCounters counters;     // what every engine counts
+  EngineCounts engine_counts;  // the engine's own counters, in the order summary.json lists them
   double wall_seconds = 0.0;
+  // One of engine_counts (throws std::out_of_range when the engine has none of that name).
+  std::int64_t count(std::string_view key) const { return engine_count<std::int64_t>(engine_counts, key); }
+  double measure(std::string_view key) const { return engine_count<double>(engine_counts, key); }
 };
 
 template <int D>

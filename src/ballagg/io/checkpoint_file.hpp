@@ -20,7 +20,7 @@
 
 namespace ballagg {
 
-inline constexpr std::uint32_t kCheckpointFormat = 1;
+inline constexpr std::uint32_t kCheckpointFormat = 2;
 inline constexpr const char* kCheckpointFile = "checkpoint.bin";
 // The largest checkpoint read (docs/checkpoints.md): 10^8 spheres at 2 KiB each, above
 // the most a sphere was measured to take (rigid-body: 1.2 kB; ed: 300 bytes). A file that

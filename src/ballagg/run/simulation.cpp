@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <variant>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -47,9 +48,9 @@ Config resolve_defaults(Config c, const State<D>& s) {
     const double rms = std::sqrt(mean_square_speed);
     c.collision.tc_time = rms > 0.0 ? kDefaultTcFraction * 2.0 * mean_radius / rms : 0.0;
   }
-  if (!c.collision.energy_threshold && c.collision.outcome == CollisionOutcome::energy_threshold) {
+  if (!c.rigid_body.energy_threshold && c.collision.outcome == CollisionOutcome::energy_threshold) {
     // Richardson §3: the initial mean kinetic energy per body.
-    c.collision.energy_threshold = total_kinetic_energy(s) / s.n_clusters();
+    c.rigid_body.energy_threshold = total_kinetic_energy(s) / s.n_clusters();
   }
   check_resolved_ranges(c, s);
   return c;
@@ -57,28 +58,13 @@ Config resolve_defaults(Config c, const State<D>& s) {
 
 template <int D>
 std::unique_ptr<Engine<D>> make_engine(const Config& c) {
-  const CollisionSettings law{c.collision.outcome, c.collision.restitution, c.collision.tc_time.value_or(0.0)};
-  if (c.engine.kind == EngineKind::ed_naive) return make_naive_event_driven_engine<D>(law);
-  if (c.engine.kind == EngineKind::ts) return make_time_stepping_engine<D>(c.ts);
-  if (c.engine.kind == EngineKind::rigid_body) {
-    const CollisionConfig& k = c.collision;
-    RigidBodySettings r;
-    r.outcome = k.outcome;
-    r.coagulation = k.coagulation;
-    r.merged_radius = k.merged_radius;
-    r.merged_speed = k.constant_speed ? c.initial.speed : -1.0;
-    r.restitution_law = k.restitution_law;
-    r.restitution = k.restitution;
-    r.velocity_unit = k.velocity_unit;
-    r.mu_t = k.mu_t;
-    r.mu_p = k.mu_p;
-    r.energy_threshold = k.energy_threshold.value_or(kNever);
-    r.fragmentation_energy = k.fragmentation_energy.value_or(kNever);
-    r.tc_time = k.tc_time.value_or(0.0);
-    r.skin = c.engine.skin.value_or(0.0);
-    return make_rigid_body_engine<D>(r);
+  switch (c.engine.kind) {
+    case EngineKind::ed: return make_event_driven_engine<D>({c.collision, c.engine.skin});
+    case EngineKind::ed_naive: return make_naive_event_driven_engine<D>({c.collision, c.engine.skin});
+    case EngineKind::ts: return make_time_stepping_engine<D>(c.ts);
+    case EngineKind::rigid_body: return make_rigid_body_engine<D>({c.collision, c.rigid_body, c.engine.skin, c.initial.speed});
   }
-  return make_event_driven_engine<D>({law, c.engine.skin.value_or(0.0)});
+  throw std::logic_error("make_engine: no such engine kind");
 }
 
 StopCriteria stop_criteria(const Config& c) {
@@ -198,29 +184,7 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   j["merges"] = n.merges;
   j["bounces"] = n.bounces;
   j["wall_bounces"] = n.wall_bounces;
-  if (c.engine.kind == EngineKind::ts) {
-    j["steps"] = n.steps;
-    j["minimisations"] = n.minimisations;
-    j["daha_iterations"] = n.daha_iterations;
-    j["placed_at_contact"] = n.placed_at_contact;
-    j["link_rounds"] = n.link_rounds;
-    j["link_rounds_exhausted"] = n.rounds_exhausted;
-    j["max_residual_overlap"] = n.max_residual_overlap;
-    if (c.ts.model != TsModel::rigid) j["max_link_stretch"] = n.max_link_stretch;
-  } else {
-    j["list_rebuilds"] = n.list_rebuilds;
-    j["rebuilt_spheres"] = n.rebuilt_spheres;
-    j["pair_predictions"] = n.pair_predictions;
-    j["event_queue_peak"] = n.queue_peak;
-  }
-  const bool rigid = c.engine.kind == EngineKind::rigid_body;
-  if (rigid) {
-    j["first_time_collisions"] = n.first_time_collisions;
-    j["fragmentations"] = n.fragmentations;
-    j["contact_searches"] = n.contact_searches;
-    j["advancement_steps"] = n.advancement_steps;
-    j["pose_evaluations"] = n.pose_evaluations;
-  }
+  for (const EngineCount& k : r.engine_counts) std::visit([&](auto v) { j[std::string(k.key)] = v; }, k.value);
   j["wall_pinnings"] = s.pinnings() - initial.pinnings;
   j["wall_seconds"] = r.wall_seconds;
   j["events_per_second"] = r.wall_seconds > 0 ? r.counters.events / r.wall_seconds : 0.0;
@@ -230,7 +194,7 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   j["wall_impulse"] = vector_json<D>(s.wall_impulse() - initial.wall_impulse);  // momentum_final - momentum_initial
   j["kinetic_energy_initial"] = initial.kinetic_energy;
   j["kinetic_energy_final"] = s.kinetic_energy();
-  if (rigid) {
+  if (c.engine.kind == EngineKind::rigid_body) {
     // kinetic_energy_* above are translational; rotational energy (eq. 2) apart.
     j["rotational_energy_initial"] = initial.rotational_energy;
     j["rotational_energy_final"] = rotational_energy(s);
@@ -244,60 +208,74 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   return j.dump(2) + "\n";
 }
 
-// A fresh run (resume = null), or the continuation of one from its checkpoint (given is
-// then the checkpoint's resolved configuration and options.out_dir its directory).
+// What a run needs before anything is written: the state, the resolved configuration, the
+// stop criteria and the engine, restored from the checkpoint for a resumed run. Throws
+// InputError (CheckpointError) for input that cannot run.
 template <int D>
-std::string run_in_dimension(const Config& given, const RunOptions& options, const Checkpoint* resume) {
-  // All input checks happen before any output.
+struct PreparedRun {
+  State<D> state;
+  Config config;
+  StopCriteria stop;
+  std::unique_ptr<Engine<D>> engine;
+  double earlier_seconds = 0.0;  // wall time of the run's parts before its checkpoint
+};
+
+template <int D>
+PreparedRun<D> prepare_run(const Config& given, const RunOptions& options, const Checkpoint* resume) {
   State<D> state = resume ? StateCodec<D>::decode(resume->state) : make_initial_state<D>(given);
-  const Config config = resume ? given : resolve_defaults(given, state);
-  StopCriteria stop = stop_criteria(config);
-  std::unique_ptr<Engine<D>> engine = make_engine<D>(config);
-  const double earlier_seconds = resume ? resume->wall_seconds : 0.0;
+  Config config = resume ? given : resolve_defaults(given, state);
+  PreparedRun<D> run{std::move(state), std::move(config), {}, nullptr, resume ? resume->wall_seconds : 0.0};
+  run.stop = stop_criteria(run.config);
+  run.engine = make_engine<D>(run.config);
   if (resume) {
-    if (resume->engine != engine->name())
+    if (resume->engine != run.engine->name())
       throw CheckpointError(fmt::format("{}: written by engine {} for a configuration of engine {}", options.out_dir,
-                                        resume->engine, engine->name()));
-    engine->resume_from(state, resume->engine_state);
-    stop.wall_seconds -= earlier_seconds;  // stop.wall_seconds bounds the whole run
+                                        resume->engine, run.engine->name()));
+    run.engine->resume_from(run.state, resume->engine_state);
+    run.stop.wall_seconds -= run.earlier_seconds;  // stop.wall_seconds bounds the whole run
+  } else {
+    check_timeseries_rows(run.config.output.timeseries_interval, run.state.time, run.config.stop.time);
+    check_snapshot_frames(run.config.output.snapshot_every, run.state.time, run.config.stop.time);
+  }
+  return run;
+}
+
+// The observers of a run (timeseries.csv, trajectories, the progress line, checkpoints),
+// restored from the checkpoint for a resumed run. Built in place: the checkpointer refers
+// to the others.
+template <int D>
+class RunRecorders {
+ public:
+  RunRecorders(const PreparedRun<D>& run, const RunOptions& options, const Checkpoint* resume, const std::string& dir,
+               bool checkpoint_on_signals, RunGuard& guard)
+      : initial(resume ? Totals<D>(resume->totals) : Totals<D>(run.state)),
+        timeseries(run.config.output.timeseries_interval, run.config.engine.kind == EngineKind::rigid_body, &guard),
+        progress(stderr, options.progress_on_terminal && isatty(STDERR_FILENO), run.stop) {
+    if (resume) timeseries.restore(resume->timeseries);
+    observers.add(&timeseries);
+    std::optional<std::string_view> saved_snapshots;
+    if (resume && !resume->snapshots.empty()) saved_snapshots = resume->snapshots;
+    snapshots = make_snapshot_recorder(run.config, run.state, dir, saved_snapshots, &guard);
+    if (snapshots) observers.add(snapshots.get());
+    if (!options.quiet) observers.add(&progress);
+    if (run.engine->supports_checkpoints()) add_checkpointer(run, dir, checkpoint_on_signals, guard);
   }
 
-  if (!resume) {
-    check_timeseries_rows(config.output.timeseries_interval, state.time, config.stop.time);
-    check_snapshot_frames(config.output.snapshot_every, state.time, config.stop.time);
-  }
-
-  // Signals are heard from here on: everything is checked, and nothing written yet.
-  std::optional<InterruptFlag> interrupts;
-  if (options.checkpoint_on_signals) interrupts.emplace();
-  const std::string dir = options.out_dir.empty() ? default_output_dir() : options.out_dir;
-  // A resumed run's directory is locked by resume_simulation, before its checkpoint is read.
-  std::optional<NewRunDirectory> fresh;
-  if (!resume) fresh.emplace(open_new_run_directory(dir, options.overwrite));
-  const bool created = fresh && fresh->created;
-
-  // Polled by the engine and the recorders: the wall-clock limit, signals, output caps.
-  RunGuard guard(stop.wall_seconds);
-  stop.guard = &guard;
-  const Totals<D> initial = resume ? Totals<D>(resume->totals) : Totals<D>(state);
-  const bool rigid = config.engine.kind == EngineKind::rigid_body;
-  TimeseriesRecorder<D> timeseries(config.output.timeseries_interval, rigid, &guard);
-  if (resume) timeseries.restore(resume->timeseries);
-  ProgressReporter<D> progress(stderr, options.progress_on_terminal && isatty(STDERR_FILENO), stop);
-  ObserverList<D> observers;
-  observers.add(&timeseries);
-  std::optional<std::string_view> saved_snapshots;
-  if (resume && !resume->snapshots.empty()) saved_snapshots = resume->snapshots;
-  std::unique_ptr<SnapshotRecorder<D>> snapshots = make_snapshot_recorder(config, state, dir, saved_snapshots, &guard);
-  if (snapshots) observers.add(snapshots.get());
-  if (!options.quiet) observers.add(&progress);
-
+  const Totals<D> initial;
+  TimeseriesRecorder<D> timeseries;
+  ProgressReporter<D> progress;
+  std::unique_ptr<SnapshotRecorder<D>> snapshots;
   std::optional<Checkpointer<D>> checkpointer;
-  if (engine->supports_checkpoints()) {
-    const std::string config_toml = to_toml_text(config);
-    const std::string engine_name(engine->name());
-    checkpointer.emplace(dir, config.output.checkpoint_every, interrupts.has_value(),
-                         [&, config_toml, engine_name](const State<D>& s, const std::string& engine_state, double seconds) {
+  ObserverList<D> observers;
+
+ private:
+  void add_checkpointer(const PreparedRun<D>& run, const std::string& dir, bool on_signals, RunGuard& guard) {
+    const std::string config_toml = to_toml_text(run.config);
+    const std::string engine_name(run.engine->name());
+    const double earlier_seconds = run.earlier_seconds;
+    checkpointer.emplace(dir, run.config.output.checkpoint_every, on_signals,
+                         [this, config_toml, engine_name, earlier_seconds](const State<D>& s, const std::string& engine_state,
+                                                                          double seconds) {
       Checkpoint c;
       c.program_version = kVersion;
       c.dimension = D;
@@ -313,43 +291,59 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
     }, &guard);
     observers.add(&*checkpointer);
   }
-  RunResult result;
+};
+
+// Runs the engine. Bad input found during the run (coefficients that would create energy)
+// leaves nothing behind, as for input refused before the run.
+template <int D>
+RunResult run_engine(PreparedRun<D>& run, RunRecorders<D>& recorders, std::optional<NewRunDirectory>& fresh,
+                     const std::string& dir) {
+  const bool created = fresh && fresh->created;
   try {
-    guard.start_clock();
-    result = engine->run(state, stop, observers);
+    run.stop.guard->start_clock();
+    return run.engine->run(run.state, run.stop, recorders.observers);
   } catch (const InputError&) {
-    // Bad input found during the run (coefficients that would create energy): leave
-    // nothing behind, as for input rejected before the run.
     std::error_code ec;
     fresh.reset();  // the lock file goes first
     if (created) std::filesystem::remove(dir, ec);
     throw;
   }
-  if (result.reason == StopReason::interrupted) {
-    // A signal, and no checkpoint of it (a run inside a sweep): nothing of this run is
-    // written; its trajectories' temporary files go unless an earlier checkpoint refers to them.
-    snapshots.reset();
-    std::error_code ec;
-    const bool resumable = std::filesystem::exists(std::filesystem::path(dir) / kCheckpointFile, ec);
-    if (created && !resumable) std::filesystem::remove(dir, ec);
-    throw RunInterrupted(stop_signal(), fmt::format("interrupted by {} at t = {}: {}", signal_name(stop_signal()), state.time,
-                                                    resumable ? fmt::format("continue from its last checkpoint with: "
-                                                                            "ballagg run --resume {}", dir)
-                                                              : std::string("the run's files were not written")));
-  }
-  result.wall_seconds += earlier_seconds;
-  if (result.reason == StopReason::output_limit && !options.quiet)
-    fmt::print(stderr,
-               "ballagg: the run stopped at t = {} with as many rows or frames as are written (at most {} rows of "
-               "timeseries.csv, {} trajectory frames): set a larger output.timeseries_interval or "
-               "output.snapshot_every, or a stop.time\n",
-               state.time, TimeseriesRecorder<D>::kMaxRows, SnapshotRecorder<D>::kMaxFrames + 2);
+}
 
+// A signal, and no checkpoint of it (a run inside a sweep): nothing of this run is written;
+// its trajectories' temporary files go unless an earlier checkpoint refers to them.
+template <int D>
+[[noreturn]] void end_interrupted(const State<D>& state, RunRecorders<D>& recorders, bool created, const std::string& dir) {
+  recorders.snapshots.reset();
+  std::error_code ec;
+  const bool resumable = std::filesystem::exists(std::filesystem::path(dir) / kCheckpointFile, ec);
+  if (created && !resumable) std::filesystem::remove(dir, ec);
+  throw RunInterrupted(stop_signal(), fmt::format("interrupted by {} at t = {}: {}", signal_name(stop_signal()), state.time,
+                                                  resumable ? fmt::format("continue from its last checkpoint with: "
+                                                                          "ballagg run --resume {}", dir)
+                                                            : std::string("the run's files were not written")));
+}
+
+template <int D>
+void report_output_limit(const State<D>& state) {
+  fmt::print(stderr,
+             "ballagg: the run stopped at t = {} with as many rows or frames as are written (at most {} rows of "
+             "timeseries.csv, {} trajectory frames): set a larger output.timeseries_interval or "
+             "output.snapshot_every, or a stop.time\n",
+             state.time, TimeseriesRecorder<D>::kMaxRows, SnapshotRecorder<D>::kMaxFrames + 2);
+}
+
+// The files of a finished run; its checkpoint goes (nothing is left to resume).
+template <int D>
+void write_run_files(const PreparedRun<D>& run, RunRecorders<D>& recorders, const RunResult& result,
+                     const std::string& dir) {
+  const State<D>& state = run.state;
+  const Config& config = run.config;
   const std::string final_csv = state_csv_text(state);
   write_file_atomically(dir, "final.csv", final_csv);
   if (config.output.xyz) write_file_atomically(dir, "final.xyz", xyz_frame_text(state));
-  write_file_atomically(dir, "timeseries.csv", timeseries.csv());
-  if (rigid) {
+  write_file_atomically(dir, "timeseries.csv", recorders.timeseries.csv());
+  if (config.engine.kind == EngineKind::rigid_body) {
     // Richardson's end-of-run statistics: the files of `ballagg analyze`, from final.csv
     // as that command reads it, so that both give the same bytes.
     const std::string final_path = (std::filesystem::path(dir) / "final.csv").string();
@@ -357,9 +351,36 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
                    parse_state_csv<D>(final_csv, final_path), final_path, dir);
   }
   write_file_atomically(dir, "config.toml", to_toml_text(config));
-  write_file_atomically(dir, "summary.json", summary_text(config, engine->name(), initial, state, result));
+  write_file_atomically(dir, "summary.json", summary_text(config, run.engine->name(), recorders.initial, state, result));
   std::error_code ec;
-  std::filesystem::remove(std::filesystem::path(dir) / kCheckpointFile, ec);  // finished: nothing to resume
+  std::filesystem::remove(std::filesystem::path(dir) / kCheckpointFile, ec);
+}
+
+// A fresh run (resume = null), or the continuation of one from its checkpoint (given is
+// then the checkpoint's resolved configuration and options.out_dir its directory).
+template <int D>
+std::string run_in_dimension(const Config& given, const RunOptions& options, const Checkpoint* resume) {
+  // All input checks happen before any output.
+  PreparedRun<D> run = prepare_run<D>(given, options, resume);
+
+  // Signals are heard from here on: everything is checked, and nothing written yet.
+  std::optional<InterruptFlag> interrupts;
+  if (options.checkpoint_on_signals) interrupts.emplace();
+  const std::string dir = options.out_dir.empty() ? default_output_dir() : options.out_dir;
+  // A resumed run's directory is locked by resume_simulation, before its checkpoint is read.
+  std::optional<NewRunDirectory> fresh;
+  if (!resume) fresh.emplace(open_new_run_directory(dir, options.overwrite));
+  const bool created = fresh && fresh->created;
+
+  // Polled by the engine and the recorders: the wall-clock limit, signals, output caps.
+  RunGuard guard(run.stop.wall_seconds);
+  run.stop.guard = &guard;
+  RunRecorders<D> recorders(run, options, resume, dir, interrupts.has_value(), guard);
+  RunResult result = run_engine(run, recorders, fresh, dir);
+  if (result.reason == StopReason::interrupted) end_interrupted(run.state, recorders, created, dir);
+  result.wall_seconds += run.earlier_seconds;
+  if (result.reason == StopReason::output_limit && !options.quiet) report_output_limit(run.state);
+  write_run_files(run, recorders, result, dir);
   return dir;
 }
 

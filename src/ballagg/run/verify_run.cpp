@@ -112,9 +112,9 @@ void verify_rotation(const Config& cfg, const Box<D>& box, const SphereTable<D>&
   c.check(e1 <= e0 * (1.0 + verify_tolerance::kBudget),
           fmt::format("energy budget: kinetic energy (translation and rotation) grew from {} to {} (sticking, restitution "
                       "and walls never add energy)", e0, e1));
-  const CollisionConfig& law = cfg.collision;
-  const bool elastic = law.outcome == CollisionOutcome::bounce && law.restitution_law == RestitutionLaw::constant &&
-                       law.restitution == 1.0 && law.mu_t == 0.0 && law.mu_p == 0.0;
+  const RigidBodyLaw& law = cfg.rigid_body;
+  const bool elastic = cfg.collision.outcome == CollisionOutcome::bounce && law.restitution_law == RestitutionLaw::constant &&
+                       cfg.collision.restitution == 1.0 && law.mu_t == 0.0 && law.mu_p == 0.0;
   if (elastic)
     c.check(std::abs(e1 - e0) <= verify_tolerance::kBudget * e0,
             fmt::format("energy budget: elastic, frictionless bounces (eps_n = 1, mu = 0) changed the kinetic energy "
@@ -144,7 +144,7 @@ void verify_in_dimension(const RunDirectory& run, const Summary& summary, Checke
   c.check(n == static_cast<int>(summary.number("n_particles")),
           fmt::format("spheres: final.csv has {}, summary.json n_particles = {}", n, summary.number("n_particles")));
   // Sphere coagulation (rigid-body models i-ii) makes one sphere of two.
-  const bool coalescing = cfg.engine.kind == EngineKind::rigid_body && cfg.collision.coagulation == Coagulation::sphere;
+  const bool coalescing = cfg.engine.kind == EngineKind::rigid_body && cfg.rigid_body.coagulation == Coagulation::sphere;
   if (cfg.initial.positions != InitialPositions::file && !coalescing)
     c.check(n == cfg.system.n, fmt::format("spheres: final.csv has {}, config.toml system.n = {}", n, cfg.system.n));
   if (coalescing)
@@ -268,7 +268,7 @@ void verify_in_dimension(const RunDirectory& run, const Summary& summary, Checke
   const double p_scale = std::sqrt(2.0 * mass * std::max(e0, energy));
   c.close("energy: kinetic_energy_final", summary.number("kinetic_energy_final"), energy, std::max(e0, energy),
           verify_tolerance::kSum);
-  if (coalescing && cfg.collision.constant_speed) {
+  if (coalescing && cfg.rigid_body.constant_speed) {
     // Model (i): every merged sphere moves at initial.speed and spins with the pair's
     // angular momentum.
     c.note("collision.constant_speed (model i) conserves neither momentum nor energy by design: budgets not checked");

@@ -12,7 +12,7 @@ import zlib
 HERE = pathlib.Path(__file__).resolve().parent
 SEEDS = HERE.parent.parent / "fuzz" / "corpus" / "fuzz_checkpoint_sections"
 MAGIC = b"BALLAGG CHECKPT\n"
-FORMAT = 1
+FORMAT = 2
 BYTE_ORDER = 0x01020304
 
 
@@ -78,6 +78,7 @@ def main():
     flipped[len(good) // 2] ^= 0x10
     write("flipped_bit", bytes(flipped))
     write("format_zero", wrap(edn, version=0))
+    write("format_older", wrap(edn, version=FORMAT - 1))  # as the ballagg before the current format wrote it
     write("other_byte_order", wrap(edn, order=0x04030201))
     write("longer_than_its_header", good + b"\0" * 8)
     write("dimension_four", wrap(replaced(f, 1, 4)))

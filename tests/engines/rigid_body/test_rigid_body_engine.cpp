@@ -53,8 +53,8 @@ class Watcher final : public RunObserver<D> {
 };
 
 template <int D>
-RunResult run_rigid(State<D>& s, RigidBodySettings law, StopCriteria stop, RunObserver<D>& observer) {
-  return make_rigid_body_engine<D>(law)->run(s, stop, observer);
+RunResult run_rigid(State<D>& s, RigidBodySettings settings, StopCriteria stop, RunObserver<D>& observer) {
+  return make_rigid_body_engine<D>(settings)->run(s, stop, observer);
 }
 
 template <int D>
@@ -127,12 +127,12 @@ void bounce_conserves(double eps) {
   State<D> s = prepared_pair<D>();
   Watcher<D> w;
   const Totals<D> before(s);
-  RigidBodySettings law;
-  law.outcome = CollisionOutcome::bounce;
-  law.restitution = eps;
+  RigidBodySettings settings;
+  settings.collision.outcome = CollisionOutcome::bounce;
+  settings.collision.restitution = eps;
   StopCriteria later;
   later.time = 8.0;  // after the first contacts, before any wall
-  run_rigid(s, law, later, w);
+  run_rigid(s, settings, later, w);
   ASSERT_FALSE(w.collisions.empty());
   const Totals<D> after(s);
   expect_conserved(before, after, eps == 1.0);
@@ -152,8 +152,8 @@ TEST(RigidBodyEngine, CatastrophicFragmentationConservesMomentaAndEnergy) {
   State<3> s = prepared_pair<3>();
   Watcher<3> w;
   const Totals<3> before(s);
-  RigidBodySettings law;
-  law.fragmentation_energy = 1e-6;  // every impact breaks
+  RigidBodySettings settings;
+  settings.law.fragmentation_energy = 1e-6;  // every impact breaks
   StopCriteria first;
   first.time = 8.0;
   w.check = [&](const State<3>& st, const EventRecord& e) {
@@ -162,8 +162,8 @@ TEST(RigidBodyEngine, CatastrophicFragmentationConservesMomentaAndEnergy) {
     const Totals<3> after(st);
     expect_conserved(before, after, true);
   };
-  const RunResult r = run_rigid(s, law, first, w);
-  EXPECT_EQ(r.counters.fragmentations, 1);
+  const RunResult r = run_rigid(s, settings, first, w);
+  EXPECT_EQ(r.count("fragmentations"), 1);
   EXPECT_LT(testing::worst_overlap(s), 1e-9);
 }
 
@@ -301,11 +301,11 @@ State<D> random_gas(int n, double volume_fraction, Boundary boundary, std::uint6
 template <int D>
 void no_overlap_in_a_random_run(Boundary boundary, CollisionOutcome outcome) {
   State<D> s = random_gas<D>(150, 0.08, boundary, 5);
-  RigidBodySettings law;
-  law.outcome = outcome;
-  law.restitution = 0.5;
-  law.energy_threshold = 0.4;
-  law.tc_time = 1e-9;
+  RigidBodySettings settings;
+  settings.collision.outcome = outcome;
+  settings.collision.restitution = 0.5;
+  settings.law.energy_threshold = 0.4;
+  settings.collision.tc_time = 1e-9;
   Watcher<D> w;
   double worst = -1.0;
   w.check = [&](const State<D>& st, const EventRecord& e) {
@@ -314,7 +314,7 @@ void no_overlap_in_a_random_run(Boundary boundary, CollisionOutcome outcome) {
   StopCriteria stop;
   stop.clusters = 10;
   stop.time = 60.0;
-  run_rigid(s, law, stop, w);
+  run_rigid(s, settings, stop, w);
   EXPECT_GT(w.collisions.size(), 100u);
   EXPECT_LT(worst, 1e-9);
 }
@@ -331,12 +331,12 @@ TEST(RigidBodyEngine, NoOverlapThroughThousandsOfBouncesAndMergesOfSpinningBodie
   // Richardson's model (iv) rules on 400 spheres: every collision, the largest overlap in
   // the whole state (grid search) stays below 1e-9 of a contact distance.
   State<3> s = random_gas<3>(400, 0.03, Boundary::periodic, 21);
-  RigidBodySettings law;
-  law.outcome = CollisionOutcome::energy_threshold;
-  law.energy_threshold = 0.5 * s.kinetic_energy() / s.n_clusters();
-  law.restitution_law = RestitutionLaw::bridges;
-  law.velocity_unit = 0.01;
-  law.tc_time = 1e-9;
+  RigidBodySettings settings;
+  settings.collision.outcome = CollisionOutcome::energy_threshold;
+  settings.law.energy_threshold = 0.5 * s.kinetic_energy() / s.n_clusters();
+  settings.law.restitution_law = RestitutionLaw::bridges;
+  settings.law.velocity_unit = 0.01;
+  settings.collision.tc_time = 1e-9;
   Watcher<3> w;
   double worst = -1.0;
   w.check = [&](const State<3>& st, const EventRecord& e) {
@@ -344,7 +344,7 @@ TEST(RigidBodyEngine, NoOverlapThroughThousandsOfBouncesAndMergesOfSpinningBodie
   };
   StopCriteria stop;
   stop.time = 60.0;
-  run_rigid(s, law, stop, w);
+  run_rigid(s, settings, stop, w);
   EXPECT_GT(w.collisions.size(), 1000u);
   EXPECT_LT(worst, 1e-9);
 }
@@ -353,26 +353,26 @@ TEST(RigidBodyEngine, PeriodicRunConservesMomentum) {
   State<3> s = random_gas<3>(300, 0.05, Boundary::periodic, 9);
   const Vec<3> p0 = s.momentum();
   const double scale = s.momentum_scale();
-  RigidBodySettings law;
-  law.outcome = CollisionOutcome::energy_threshold;
-  law.energy_threshold = 0.5;
-  law.restitution = 0.8;
+  RigidBodySettings settings;
+  settings.collision.outcome = CollisionOutcome::energy_threshold;
+  settings.law.energy_threshold = 0.5;
+  settings.collision.restitution = 0.8;
   Watcher<3> w;
   StopCriteria stop;
   stop.time = 30.0;
-  run_rigid(s, law, stop, w);
+  run_rigid(s, settings, stop, w);
   EXPECT_GT(w.collisions.size(), 200u);
   EXPECT_LT((s.momentum() - p0).norm(), 1e-12 * scale);
 }
 
 TEST(RigidBodyEngine, WallsAreElasticAndKeepEveryBodyInside) {
   State<3> s = random_gas<3>(60, 0.1, Boundary::walls, 4);
-  RigidBodySettings law;
-  law.outcome = CollisionOutcome::stick;
+  RigidBodySettings settings;
+  settings.collision.outcome = CollisionOutcome::stick;
   Watcher<3> w;
   StopCriteria grow;
   grow.clusters = 6;
-  run_rigid(s, law, grow, w);  // spinning aggregates
+  run_rigid(s, settings, grow, w);  // spinning aggregates
   double e0 = Totals<3>(s).energy;
   int wall_hits = 0;
   double outside = 0.0;
@@ -384,10 +384,10 @@ TEST(RigidBodyEngine, WallsAreElasticAndKeepEveryBodyInside) {
         outside = std::max({outside, (r - x) / r, (x + r - st.box.length) / r});
       }
   };
-  law.outcome = CollisionOutcome::bounce;  // elastic between bodies too: energy is conserved
+  settings.collision.outcome = CollisionOutcome::bounce;  // elastic between bodies too: energy is conserved
   StopCriteria stop;
   stop.time = s.time + 40.0;
-  run_rigid(s, law, stop, w);
+  run_rigid(s, settings, stop, w);
   EXPECT_GT(wall_hits, 20);
   EXPECT_LT(outside, 1e-9);
   EXPECT_NEAR(Totals<3>(s).energy, e0, 1e-10 * e0);
@@ -416,14 +416,14 @@ class Sampler final : public RunObserver<3> {
 
 TEST(RigidBodyEngine, ObserversReadingPositionsBetweenEventsSeeTheExactState) {
   const State<3> start = random_gas<3>(200, 0.03, Boundary::periodic, 8);
-  RigidBodySettings law;
+  RigidBodySettings settings;
   Sampler sampler;
   sampler.times = {0.7, 1.9, 3.3};
   {
     State<3> s = start;
     StopCriteria stop;
     stop.time = 4.0;
-    const RunResult r = run_rigid(s, law, stop, sampler);
+    const RunResult r = run_rigid(s, settings, stop, sampler);
     EXPECT_EQ(r.reason, StopReason::time) << s.n_clusters() << " " << s.time;
   }
   ASSERT_EQ(sampler.frames.size(), 3u);
@@ -432,7 +432,7 @@ TEST(RigidBodyEngine, ObserversReadingPositionsBetweenEventsSeeTheExactState) {
     RunObserver<3> none;
     StopCriteria stop;
     stop.time = sampler.times[k];
-    run_rigid(s, law, stop, none);
+    run_rigid(s, settings, stop, none);
     double worst = 0.0;
     for (int i = 0; i < s.n_spheres(); ++i)
       worst = std::max(worst, s.box.separation(s.position(i, s.time), sampler.frames[k][i]).norm());
@@ -461,10 +461,11 @@ TEST(RigidBodyEngine, ConstantKernelNumberFollowsTheAnalyticSolution) {
     c.initial.seed = 100 + run;
     c.engine.kind = EngineKind::rigid_body;
     State<3> s = make_initial_state<3>(c);
-    RigidBodySettings law;
-    law.coagulation = Coagulation::sphere;
-    law.merged_radius = MergedRadius::fixed;
-    law.merged_speed = speed;
+    RigidBodySettings settings;
+    settings.law.coagulation = Coagulation::sphere;
+    settings.law.merged_radius = MergedRadius::fixed;
+    settings.law.constant_speed = true;
+    settings.initial_speed = speed;
     class Counter final : public RunObserver<3> {
      public:
       const std::vector<double>* times;
@@ -476,7 +477,7 @@ TEST(RigidBodyEngine, ConstantKernelNumberFollowsTheAnalyticSolution) {
     counter.times = &times;
     StopCriteria stop;
     stop.time = times.back() + 1e-9;
-    run_rigid(s, law, stop, counter);
+    run_rigid(s, settings, stop, counter);
     ASSERT_EQ(counter.at.size(), times.size());
     for (std::size_t k = 0; k < times.size(); ++k) counts[k].push_back(counter.at[k]);
   }

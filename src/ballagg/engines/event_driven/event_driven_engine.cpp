@@ -31,7 +31,9 @@
 #include "ballagg/collision/resolve.hpp"
 #include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/prefetch.hpp"
+#include "ballagg/engines/event_driven/calendar_dispatch.hpp"
 #include "ballagg/engines/event_driven/event_calendar.hpp"
+#include "ballagg/engines/event_driven/event_driven_counters.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
 #include "ballagg/engines/event_driven/neighbor_keeper.hpp"
 #include "ballagg/engines/event_driven/translation_drift.hpp"
@@ -42,7 +44,10 @@ namespace ballagg {
 namespace {
 
 template <int D>
-class EventDrivenCore {
+class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
+  friend class CalendarDispatch<EventDrivenCore<D>>;
+  using CalendarDispatch<EventDrivenCore<D>>::calendar_;
+
  public:
   using Settings = EventDrivenSettings;
   EventDrivenCore(State<D>& state, const EventDrivenSettings& settings) : EventDrivenCore(state, settings, Sized{}) {
@@ -72,7 +77,7 @@ class EventDrivenCore {
     const int n = s_.n_spheres();
     const int m = static_cast<int>(s_.clusters.size());
     ByteReader r(saved, "checkpoint of the ed engine");
-    count_ = r.get<EngineCounters>("counters");
+    count_.restore(r);
     loop_ = r.get<EventLoopState>("loop state");
     if (r.get<double>("skin") != keeper_.skin()) r.fail("neighbour-list skin differs from the configuration's");
     if (r.get<std::int32_t>("sphere count") != n || r.get<std::int32_t>("cluster count") != m)
@@ -94,7 +99,7 @@ class EventDrivenCore {
   // Everything the engine carries from one event to the next (the state aside).
   std::string save() const {
     ByteWriter w;
-    w.put(count_);
+    count_.save(w);
     w.put(loop_);
     w.put(keeper_.skin());
     w.put<std::int32_t>(s_.n_spheres());
@@ -106,31 +111,15 @@ class EventDrivenCore {
     return w.take();
   }
 
-  EngineCounters& counters() { return count_; }
+  EventDrivenCounters& counters() { return count_; }
   EventLoopState& loop() { return loop_; }
-
-  std::optional<Event> next_event() {
-    return calendar_.pop_valid([&](const Event& e) { return valid(e); });
-  }
-  void put_back(const Event& e) { calendar_.put_back(e); }
-
-  EventRecord handle(const Event& e) {
-    switch (e.kind) {
-      case EventKind::collision: return collide(e.a, e.b, e.time);
-      case EventKind::wall: return reflect(e.a, e.b, e.time);
-      case EventKind::list_rebuild: return rebuild(e.a, e.time);
-      case EventKind::time_step: break;       // never queued here: time stepping only
-      case EventKind::contact_search: break;  // never queued here: rigid bodies only
-    }
-    return {};
-  }
 
  private:
   // The members fixed by the settings and the state, and the sphere fields.
   struct Sized {};
   EventDrivenCore(State<D>& state, const EventDrivenSettings& settings, Sized)
       : s_(state), law_(settings.collision),
-        keeper_(TranslationDrift<D>(state), fitted_skin(state, settings.skin, default_skin(state),
+        keeper_(TranslationDrift<D>(state), fitted_skin(state, settings.skin.value_or(0.0), default_skin(state),
                                                         SkinLimitRounding::divide_first)),
         grid_(state.box, binning_cell_size(state, keeper_.skin()), state.n_spheres()) {
     sphere_.resize(s_.n_spheres());
@@ -246,7 +235,7 @@ class EventDrivenCore {
 
   // ---- event handlers --------------------------------------------------------------------
 
-  EventRecord reflect(int c, int axis, double t) {
+  EventRecord hit_wall(int c, int axis, double t) {
     keeper_.fold(c, t);
     reflect_cluster(s_, c, axis, t);
     predict(c);
@@ -333,9 +322,8 @@ class EventDrivenCore {
   NeighborKeeper<TranslationDrift<D>> keeper_;  // the skin, drifts and list expiries
   CellGrid<D> grid_;
   NeighborLists lists_;
-  EventCalendar calendar_;
   std::vector<Event> batch_;         // scratch for predict() and rebuild()
-  EngineCounters count_;
+  EventDrivenCounters count_;
   EventLoopState loop_;
 };
 

@@ -2,15 +2,9 @@
 #include <memory>
 
 #include "ballagg/engines/engine.hpp"
+#include "ballagg/engines/event_driven/event_driven_settings.hpp"
 
 namespace ballagg {
-
-struct EventDrivenSettings {
-  CollisionSettings collision;
-  // Neighbour-list skin (absolute length). Lists are rebuilt for a cluster once it has
-  // travelled skin / 2; 0 picks default_skin().
-  double skin = 0.0;
-};
 
 // A larger skin means fewer list rebuilds but longer lists to scan and re-predict. The
 // best value measured (docs/performance.md) puts about kSkinNeighbours sphere centres
@@ -27,8 +21,9 @@ template <int D>
 std::unique_ptr<Engine<D>> make_event_driven_engine(const EventDrivenSettings& settings);
 
 // The paper's plain O(N^2) method (`ed-naive`, Appendix A): every event recomputes all
-// pair and wall times. The reference the fast engine is checked against.
+// pair and wall times. The reference the fast engine is checked against. It has no
+// neighbour lists: settings.skin is not read.
 template <int D>
-std::unique_ptr<Engine<D>> make_naive_event_driven_engine(const CollisionSettings& settings);
+std::unique_ptr<Engine<D>> make_naive_event_driven_engine(const EventDrivenSettings& settings);
 
 }  // namespace ballagg

@@ -138,6 +138,7 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
     observer.after_event(s, record, count);
   }
   result.counters = count;
+  if constexpr (requires { core.counters().report(); }) result.engine_counts = core.counters().report();
   result.wall_seconds = guard.elapsed();
   observer.on_finish(s, result);
   return result;

@@ -7,6 +7,7 @@
 #include "ballagg/collision/prediction.hpp"
 #include "ballagg/collision/resolve.hpp"
 #include "ballagg/core/byte_stream.hpp"
+#include "ballagg/engines/event_driven/event_driven_counters.hpp"
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
 
@@ -16,21 +17,22 @@ namespace {
 template <int D>
 class NaiveCore {
  public:
-  using Settings = CollisionSettings;
-  NaiveCore(State<D>& state, const CollisionSettings& law) : s_(state), law_(law) {}
+  using Settings = EventDrivenSettings;
+  NaiveCore(State<D>& state, const EventDrivenSettings& settings) : s_(state), law_(settings.collision) {}
   // Everything it keeps between events is its counters: it predicts from scratch.
-  NaiveCore(State<D>& state, const CollisionSettings& law, std::string_view saved) : s_(state), law_(law) {
+  NaiveCore(State<D>& state, const EventDrivenSettings& settings, std::string_view saved)
+      : s_(state), law_(settings.collision) {
     ByteReader r(saved, "checkpoint of the ed-naive engine");
-    count_ = r.get<EngineCounters>("counters");
+    count_.restore(r);
     loop_ = r.get<EventLoopState>("loop state");
     r.expect_end();
   }
 
-  EngineCounters& counters() { return count_; }
+  EventDrivenCounters& counters() { return count_; }
   EventLoopState& loop() { return loop_; }
   std::string save() const {
     ByteWriter w;
-    w.put(count_);
+    count_.save(w);
     w.put(loop_);
     return w.take();
   }
@@ -96,18 +98,18 @@ class NaiveCore {
 
   State<D>& s_;
   CollisionSettings law_;
-  EngineCounters count_;
+  EventDrivenCounters count_;
   EventLoopState loop_;
 };
 
 }  // namespace
 
 template <int D>
-std::unique_ptr<Engine<D>> make_naive_event_driven_engine(const CollisionSettings& settings) {
+std::unique_ptr<Engine<D>> make_naive_event_driven_engine(const EventDrivenSettings& settings) {
   return std::make_unique<EventLoopEngine<D, NaiveCore<D>>>("ed-naive", settings);
 }
 
-template std::unique_ptr<Engine<2>> make_naive_event_driven_engine<2>(const CollisionSettings&);
-template std::unique_ptr<Engine<3>> make_naive_event_driven_engine<3>(const CollisionSettings&);
+template std::unique_ptr<Engine<2>> make_naive_event_driven_engine<2>(const EventDrivenSettings&);
+template std::unique_ptr<Engine<3>> make_naive_event_driven_engine<3>(const EventDrivenSettings&);
 
 }  // namespace ballagg

@@ -7,11 +7,11 @@ namespace ballagg {
 
 template <int D>
 RigidBodyCore<D>::RigidBodyCore(State<D>& state, const RigidBodySettings& settings, std::string_view saved)
-    : s_(state), law_(settings), keeper_(RotationDrift<D>(state, bodies_), 0.0), resumed_(true) {
+    : s_(state), settings_(settings), keeper_(RotationDrift<D>(state, bodies_), 0.0), resumed_(true) {
   const int n = s_.n_spheres();
   const int m = static_cast<int>(s_.clusters.size());
   ByteReader r(saved, "checkpoint of the rigid-body engine");
-  count_ = r.get<EngineCounters>("counters");
+  count_.restore(r);
   loop_ = r.get<EventLoopState>("loop state");
   keeper_.set_skin(r.get<double>("skin"));
   if (!(std::isfinite(keeper_.skin()) && keeper_.skin() > 0.0)) r.fail("neighbour-list skin not a positive number");
@@ -63,7 +63,7 @@ template <int D>
 std::string RigidBodyCore<D>::save() const {
   const int m = static_cast<int>(s_.clusters.size());
   ByteWriter w;
-  w.put(count_);
+  count_.save(w);
   w.put(loop_);
   w.put(keeper_.skin());
   w.put<std::int32_t>(s_.n_spheres());

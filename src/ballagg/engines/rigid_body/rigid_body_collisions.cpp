@@ -19,11 +19,13 @@ EventRecord RigidBodyCore<D>::collide(int i, int j, double t) {
   partner_[c] = serial_[d];
   partner_[d] = serial_[c];
   const double energy = impact_energy(c, d);
-  const bool aggregate = law_.coagulation == Coagulation::aggregate;
-  const bool breaks = aggregate && energy >= law_.fragmentation_energy &&
+  const RigidBodyLaw& law = settings_.law;
+  const CollisionOutcome outcome = settings_.collision.outcome;
+  const bool aggregate = law.coagulation == Coagulation::aggregate;
+  const bool breaks = aggregate && energy >= law.fragmentation_energy.value_or(kNever) &&
                       (s_.clusters[c].size() > 1 || s_.clusters[d].size() > 1);
-  const bool sticks = breaks || law_.outcome == CollisionOutcome::stick ||
-                      (law_.outcome == CollisionOutcome::energy_threshold && energy < law_.energy_threshold);
+  const bool sticks = breaks || outcome == CollisionOutcome::stick ||
+                      (outcome == CollisionOutcome::energy_threshold && energy < law.energy_threshold.value_or(kNever));
   if (!sticks) {
     bounce(i, j, t);
     r.cluster = c;
@@ -60,11 +62,13 @@ void RigidBodyCore<D>::bounce(int i, int j, double t) {
   const Vec<D> n = s_.box.separation(Vec<D>(s_.origin(d, t) + oj), xi).normalized();  // from i to j
   const Vec<D> lever_c = oi + s_.spheres.radius[i] * n, lever_d = oj - s_.spheres.radius[j] * n;
   const ImpactBody<D> bc = bodies_.impact_body(s_, c, pc, lever_c), bd = bodies_.impact_body(s_, d, pd, lever_d);
-  const bool recent = t - s_.clusters[c].last_collision_time < law_.tc_time ||
-                      t - s_.clusters[d].last_collision_time < law_.tc_time;
+  const bool recent = t - s_.clusters[c].last_collision_time < settings_.collision.tc() ||
+                      t - s_.clusters[d].last_collision_time < settings_.collision.tc();
   const double un = (bd.contact_velocity() - bc.contact_velocity()).dot(n);
-  ImpactCoefficients k{law_.restitution, law_.mu_t, law_.mu_p};
-  if (law_.restitution_law == RestitutionLaw::bridges) k.normal_restitution = bridges_restitution(std::abs(un) * law_.velocity_unit);
+  const RigidBodyLaw& law = settings_.law;
+  ImpactCoefficients k{settings_.collision.restitution, law.mu_t, law.mu_p};
+  if (law.restitution_law == RestitutionLaw::bridges)
+    k.normal_restitution = bridges_restitution(std::abs(un) * law.velocity_unit);
   if (recent) k.normal_restitution = 1.0;
   const Impact<D> impact = collision_impulse(bc, bd, n, k);
   ++count_.bounces;
@@ -74,7 +78,7 @@ void RigidBodyCore<D>::bounce(int i, int j, double t) {
       throw InputError(fmt::format(
           "collision.mu_t = {}, collision.mu_p = {}: at t = {} the collision of spheres {} and {} would {} (the "
           "generalised coefficients must not create energy, Brach 1994); use smaller transverse coefficients",
-          law_.mu_t, law_.mu_p, t, i, j,
+          law.mu_t, law.mu_p, t, i, j,
           impact.denominator > 0.0 ? fmt::format("gain {:.3g} of kinetic energy", impact.energy_change)
                                    : std::string("pull the bodies together")));
     }
@@ -153,12 +157,12 @@ void RigidBodyCore<D>::check_span(int c) {
 template <int D>
 int RigidBodyCore<D>::coalesce(int i, int j, double t, int& merges) {
   const double r0 = s_.spheres.radius[i], r1 = s_.spheres.radius[j];
-  const double radius = law_.merged_radius == MergedRadius::fixed ? r0 : std::cbrt(r0 * r0 * r0 + r1 * r1 * r1);
+  const double radius = settings_.law.merged_radius == MergedRadius::fixed ? r0 : std::cbrt(r0 * r0 * r0 + r1 * r1 * r1);
   for (int sphere : {i, j})
     if (!merged_sphere_[sphere]) free_mass_ -= s_.spheres.mass[sphere];
   const int lo = std::min(i, j), hi = std::max(i, j);
   const int keep = body_of(lo), gone = body_of(hi);
-  const int moved = bodies_.coalesce(s_, lo, hi, radius, law_.merged_speed, t);
+  const int moved = bodies_.coalesce(s_, lo, hi, radius, settings_.merged_speed(), t);
   merged_sphere_[lo] = 1;
   if (moved >= 0) merged_sphere_[hi] = merged_sphere_[moved];
   merged_sphere_.pop_back();

@@ -22,11 +22,13 @@
 #include "ballagg/core/input_error.hpp"
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/engine.hpp"
+#include "ballagg/engines/event_driven/calendar_dispatch.hpp"
 #include "ballagg/engines/event_driven/event_calendar.hpp"
 #include "ballagg/engines/event_driven/event_loop.hpp"
 #include "ballagg/engines/event_driven/neighbor_keeper.hpp"
 #include "ballagg/engines/rigid_body/contact_search.hpp"
 #include "ballagg/engines/rigid_body/rigid_bodies.hpp"
+#include "ballagg/engines/rigid_body/rigid_body_counters.hpp"
 #include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
 #include "ballagg/engines/rigid_body/rotation_drift.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
@@ -35,16 +37,18 @@
 namespace ballagg {
 
 template <int D>
-class RigidBodyCore {
+class RigidBodyCore : public CalendarDispatch<RigidBodyCore<D>> {
+  friend class CalendarDispatch<RigidBodyCore<D>>;
+  using CalendarDispatch<RigidBodyCore<D>>::calendar_;
   using Pose = typename RigidBodies<D>::Pose;
 
  public:
   using Settings = RigidBodySettings;
   RigidBodyCore(State<D>& state, const RigidBodySettings& settings)
-      : s_(state), law_(settings),
-        keeper_(RotationDrift<D>(state, bodies_), fitted_skin(state, settings.skin, rigid_body_skin(state),
+      : s_(state), settings_(settings),
+        keeper_(RotationDrift<D>(state, bodies_), fitted_skin(state, settings.skin.value_or(0.0), rigid_body_skin(state),
                                                               SkinLimitRounding::multiply_first)) {
-    if (law_.coagulation == Coagulation::sphere) {
+    if (settings_.law.coagulation == Coagulation::sphere) {
       for (int c : s_.alive_clusters())
         if (s_.clusters[c].size() > 1)
           throw InputError(fmt::format("collision.coagulation = \"sphere\" merges single spheres, but the initial "
@@ -80,7 +84,7 @@ class RigidBodyCore {
 
   RunResult run(State<D>& state, const StopCriteria& stop, RunObserver<D>& observer);
 
-  EngineCounters& counters() { return count_; }
+  RigidBodyCounters& counters() { return count_; }
   EventLoopState& loop() { return loop_; }
   // True once, for a core restored from a checkpoint: its state is the saved one as it
   // was, and must not be written anew at the start.
@@ -92,22 +96,6 @@ class RigidBodyCore {
     return std::nullopt;
   }
   void set_aggregated_target(double f) { aggregated_target_ = f; }
-
-  std::optional<Event> next_event() {
-    return calendar_.pop_valid([&](const Event& e) { return valid(e); });
-  }
-  void put_back(const Event& e) { calendar_.put_back(e); }
-
-  EventRecord handle(const Event& e) {
-    switch (e.kind) {
-      case EventKind::collision: return collide(e.a, e.b, e.time);
-      case EventKind::wall: return hit_wall(e.a, e.b, e.time);
-      case EventKind::contact_search: return search(e.a, e.b, e.time);
-      case EventKind::list_rebuild: return rebuild(e.a, e.time);
-      case EventKind::time_step: break;  // never queued here
-    }
-    return {};
-  }
 
   // Writes every body's sphere offsets and spin at time t into the state (observers,
   // the end of the run).
@@ -263,12 +251,11 @@ class RigidBodyCore {
   void fragment(int c, double released, double t);
 
   State<D>& s_;
-  RigidBodySettings law_;
+  RigidBodySettings settings_;
   RigidBodies<D> bodies_;
   NeighborKeeper<RotationDrift<D>> keeper_;  // the skin, drifts and list expiries
   std::unique_ptr<CellGrid<D>> grid_;
   NeighborLists lists_;
-  EventCalendar calendar_;
   std::vector<Event> batch_;
   std::vector<std::array<int, 3>> pairs_;             // (partner body, sphere of c, sphere of d)
   std::pair<std::size_t, std::size_t> search_range_;  // of pairs_
@@ -284,7 +271,7 @@ class RigidBodyCore {
   double aggregated_target_ = kNever;
   bool spans_box_ = false;
   bool resumed_ = false;
-  EngineCounters count_;
+  RigidBodyCounters count_;
   EventLoopState loop_;
 };
 

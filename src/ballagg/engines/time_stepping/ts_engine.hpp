@@ -27,6 +27,7 @@
 #include "ballagg/engines/time_stepping/step_cells.hpp"
 #include "ballagg/engines/time_stepping/step_view.hpp"
 #include "ballagg/engines/time_stepping/time_step_rule.hpp"
+#include "ballagg/engines/time_stepping/ts_counters.hpp"
 #include "ballagg/engines/time_stepping/ts_settings.hpp"
 
 namespace ballagg {
@@ -125,7 +126,7 @@ class TimeSteppingEngine final : public Engine<D> {
 
   TimeSteppingSettings settings_;
   DahaProblemSink<D>* sink_;
-  EngineCounters counters_;
+  TimeSteppingCounters counters_;
   std::optional<Box<D>> box_;
   StepCells<D> cells_;                       // the step's positions and the cell list
   std::vector<Vec<D>>& positions_ = cells_.positions();

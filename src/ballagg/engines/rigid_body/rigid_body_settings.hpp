@@ -1,0 +1,50 @@
+#pragma once
+// The settings of the rigid-body engine: the collision law every engine shares, the
+// rigid-body engine's own [collision] keys (RigidBodyLaw), and its neighbour-list skin.
+// docs/rigid_body.md describes each key.
+#include <optional>
+
+#include "ballagg/collision/collision_settings.hpp"
+
+namespace ballagg {
+
+// How colliding bodies coagulate (Richardson's Table I): `aggregate`, they stick at the
+// point of contact; `sphere`, the pair becomes one sphere at its centre of mass (test
+// models (i) and (ii)).
+enum class Coagulation { aggregate, sphere };
+// The radius of a sphere made by `sphere` coagulation: constant density, R^3 = R1^3 + R2^3
+// (model ii), or the radius of the first (model i: fixed radius).
+enum class MergedRadius { constant_density, fixed };
+// The normal coefficient of restitution: a constant, or the ice law of Bridges et al.
+// (1984) that Richardson's §3 uses.
+enum class RestitutionLaw { constant, bridges };
+
+// The [collision] keys only the rigid-body engine reads.
+struct RigidBodyLaw {
+  Coagulation coagulation = Coagulation::aggregate;
+  MergedRadius merged_radius = MergedRadius::constant_density;
+  // Sphere coagulation: every merged sphere moves at the initial speed, in the direction
+  // of its momentum (model i keeps all speeds equal); false: momentum is conserved.
+  bool constant_speed = false;
+  RestitutionLaw restitution_law = RestitutionLaw::constant;
+  double velocity_unit = 1.0;     // Bridges law: one unit of simulation speed in cm/s
+  double mu_t = 0.0, mu_p = 0.0;  // transverse kinetic coefficients (16)-(17)
+  // energy_threshold outcome: impacts with less energy than this stick, the others
+  // bounce. Unset until a run resolves its default (the initial mean kinetic energy per
+  // body); unset: every impact sticks.
+  std::optional<double> energy_threshold;
+  // Impacts with at least this energy that involve an aggregate break the joined body up
+  // into its spheres (§2.6). Unset: never.
+  std::optional<double> fragmentation_energy;
+};
+
+struct RigidBodySettings {
+  CollisionSettings collision;  // outcome, eps_n of the constant restitution law, TC model
+  RigidBodyLaw law;
+  std::optional<double> skin;   // neighbour-list skin (absolute); unset: rigid_body_skin()
+  double initial_speed = 0.0;   // the speed law.constant_speed keeps (initial.speed)
+  // >= 0: the speed of every sphere made by sphere coagulation; < 0: momentum is conserved.
+  double merged_speed() const { return law.constant_speed ? initial_speed : -1.0; }
+};
+
+}  // namespace ballagg
