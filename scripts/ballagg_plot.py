@@ -6,7 +6,8 @@ Usage: /usr/bin/python3 ballagg_plot.py [OPTIONS] DIR [DIR ...]
   DIR            sweep directories (with sweep.csv: the figures of Degond et al. 2023, the
                  points of several sweeps together) or run directories (with
                  timeseries.csv: the time series; after `ballagg analyze`, the end state;
-                 after `ballagg analyze --frames`, the indicators against time)
+                 after `ballagg analyze --frames`, the indicators against time; after
+                 `ballagg analyze --kinetics`, n(t) and E(t) with the fitted laws)
   --out DIR      where to write the figures (default: the first DIR/figures)
   --format F     png (default), pdf or svg
   --dpi N        dots per inch of a PNG (default 300)
@@ -827,6 +828,56 @@ def fig_frame_spectra(figs, runs):
     figs.save(fig, "frames_mass_spectrum")
 
 
+def fig_kinetics(figs, runs):
+    """n(t) and E(t) on log axes with the laws `ballagg analyze --kinetics` fitted over its window."""
+    panels = [("clusters", "clusters_decay_z", "number of clusters $n$", "z"),
+              ("kinetic_energy", "energy_decay_theta", r"kinetic energy $E$", r"\theta")]
+    fig, axes = figs.panels(len(panels), columns=2)
+    for ax, (column, key, ylabel, symbol) in zip(axes, panels):
+        for run in runs:
+            t, y = run["series"]["time"], run["series"].get(column)
+            if y is None:
+                continue
+            ok = (t > 0) & (y > 0)
+            colour = figs.colour(run["label"])
+            ax.plot(t[ok], y[ok], color=colour, label=run["label"] if len(runs) > 1 else None)
+            k = run["kinetics"]
+            fit, window = k.get(key) or {}, k.get("window") or {}
+            z, pre, t0, t1 = fit.get("exponent"), fit.get("prefactor"), window.get("start"), window.get("end")
+            if all(isinstance(v, (int, float)) for v in (z, pre, t0, t1)):
+                tt = np.geomspace(t0, t1, 50)
+                err = fit.get("exponent_error")
+                ax.plot(tt, pre * tt ** (-z), ls="--", color="black", lw=0.8,
+                        label=f"${symbol}$ = {plus_minus(z, err if isinstance(err, (int, float)) else math.nan)}")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("time $t$")
+        ax.set_ylabel(ylabel)
+        legend_inside(ax)
+    figs.save(fig, "kinetics")
+
+
+def fig_collapse(figs, runs):
+    """The scaled size distribution S^2 n_k / N against k / S of every frame, coloured by time."""
+    fig, axes = figs.panels(1)
+    ax = axes[0]
+    shown = None
+    for run in runs:
+        rows = run["collapse"]
+        x = np.array([number(r, "scaled_size") for r in rows])
+        y = np.array([number(r, "scaled_count") for r in rows])
+        t = np.array([number(r, "time") for r in rows])
+        ok = (x > 0) & (y > 0)
+        shown = ax.scatter(x[ok], y[ok], c=t[ok], s=6, cmap="viridis")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("scaled size $k / S(t)$")
+    ax.set_ylabel(r"scaled number $S^2 n_k / N$")
+    if shown is not None:
+        fig.colorbar(shown, ax=ax, label="time $t$")
+    figs.save(fig, "kinetics_collapse")
+
+
 def fig_frame_r_max(figs, runs):
     """R_max against N_a of every cluster in every frame, coloured by time."""
     fig, axes = figs.panels(1)
@@ -864,6 +915,9 @@ def load_runs(dirs):
         if run["analysis"] is not None and all(os.path.isfile(os.path.join(d, t)) for t in ANALYSIS_TABLES):
             for t in ANALYSIS_TABLES:
                 run["tables"][t] = read_csv(os.path.join(d, t), "run")
+        run["kinetics"] = read_json(os.path.join(d, "kinetics.json"))
+        if os.path.isfile(os.path.join(d, "kinetics_collapse.csv")):
+            run["collapse"] = read_csv(os.path.join(d, "kinetics_collapse.csv"), "run")[0]
         if all(os.path.isfile(os.path.join(d, t)) for t in FRAME_TABLES):
             frames, frame_fields = read_csv(os.path.join(d, "frames.csv"), "run")
             run["frames"] = columns(frames, frame_fields, frame_fields) if frames else None
@@ -875,6 +929,12 @@ def load_runs(dirs):
 
 def plot_runs(figs, runs):
     fig_time_series(figs, runs)
+    with_kinetics = [r for r in runs if r.get("kinetics")]
+    if with_kinetics:
+        fig_kinetics(figs, with_kinetics)
+    collapsed = [r for r in runs if r.get("collapse")]
+    if collapsed:
+        fig_collapse(figs, collapsed)
     framed = [r for r in runs if r.get("frames")]
     if framed:
         fig_frame_indicators(figs, framed)

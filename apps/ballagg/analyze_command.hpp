@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include "ballagg/run/analyze_frames.hpp"
+#include "ballagg/run/analyze_kinetics.hpp"
 #include "ballagg/run/analyze_run.hpp"
 
 namespace ballagg::cli {
@@ -12,6 +13,8 @@ struct AnalyzeCommand {
   AnalyzeRequest request;
   bool frames = false;              // the trajectory's frames instead of the final state
   std::vector<double> frame_times;  // the frames nearest these times (implies frames)
+  bool kinetics = false;            // the kinetic exponents of the time series
+  std::vector<double> window;       // with kinetics: T0,T1 instead of the automatic window
   bool quiet = false;               // no headline indicators
 };
 

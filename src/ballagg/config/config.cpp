@@ -168,12 +168,26 @@ OutputConfig read_output(SectionReader& out) {
   return output_config;
 }
 
+// Snapshots need a format; and coalescing spheres leave the run (the number of spheres
+// falls), which trajectory.h5md and trajectory.gsd, written with the first frame's number
+// of particles and their radii, cannot hold.
+void check_snapshot_formats(const Config& c, const std::string& source) {
+  if (!(c.output.snapshot_every > 0.0)) return;
+  if (c.output.snapshot_formats.empty())
+    throw InputError(fmt::format("{}: output.snapshot_every = {} but output.snapshot_formats is empty "
+                                 "(give \"h5md\", \"xyz\" and/or \"gsd\", or set snapshot_every = 0)", source, c.output.snapshot_every));
+  if (c.collision.coagulation != Coagulation::sphere) return;
+  for (SnapshotFormat f : c.output.snapshot_formats)
+    if (f != SnapshotFormat::xyz)
+      throw InputError(fmt::format("{}: output.snapshot_formats = \"{}\" with collision.coagulation = \"sphere\": coalescing "
+                                   "spheres change the number and the radii of the spheres, which trajectory.{} keeps "
+                                   "fixed; use \"xyz\"", source, to_string(f), to_string(f)));
+}
+
 // The rules that involve keys of several sections; sets the default volume fraction.
 void check_key_combinations(Config& c, const std::string& source) {
   const bool from_file = c.initial.positions == InitialPositions::file;
-  if (c.output.snapshot_every > 0.0 && c.output.snapshot_formats.empty())
-    throw InputError(fmt::format("{}: output.snapshot_every = {} but output.snapshot_formats is empty "
-                                 "(give \"h5md\", \"xyz\" and/or \"gsd\", or set snapshot_every = 0)", source, c.output.snapshot_every));
+  check_snapshot_formats(c, source);
   if (c.engine.kind == EngineKind::ts && c.collision.outcome != CollisionOutcome::stick)
     throw InputError(fmt::format("{}: engine.kind = \"ts\" simulates sticking only: collision.outcome must be \"stick\" "
                                  "(use engine.kind = \"ed\" for bounces)", source));
