@@ -178,10 +178,12 @@ void bind_simulation_in(py::module_& m, const char* name) {
       }, "Per sphere: its cluster, 0, 1, ... in order of each cluster's first sphere (as final.csv)")
       .def("max_overlap", [](const S& s) { return max_relative_overlap(s.state()); },
            "Largest (R_i + R_j - d) / (R_i + R_j) over close pairs (None if no pair is close)")
-      .def("analyze", [](const S& s) {
+      .def("analyze", [](const S& s, bool tables) {
         const Frame<D> f = s.frame();
-        return aggregate_analysis<D>(s.state().box, table_of<D>(f, particles_of(s.state())));
-      }, "Every indicator of `ballagg analyze` for the current state (a dict)")
+        return aggregate_analysis<D>(s.state().box, table_of<D>(f, particles_of(s.state())), py::none(), tables);
+      }, py::arg("tables") = false,
+         "Every indicator of `ballagg analyze` for the current state: the dict of analysis.json; tables=True: "
+         "(that dict, the CSV tables as {name: {column: array}})")
       .def("write_state", [](const S& s, const std::string& path) {
         const std::filesystem::path p(path);
         write_file_atomically(p.parent_path().empty() ? "." : p.parent_path().string(), p.filename().string(),

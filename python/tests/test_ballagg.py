@@ -1,6 +1,7 @@
 """The ballagg Python module: configurations, simulations with callbacks, numpy state,
 the analysis functions and run directories, checked against physics and against the
 command line (the same configuration and seed give the same bytes)."""
+import json
 import math
 import os
 import subprocess
@@ -266,12 +267,51 @@ def test_analyze_of_a_simulation_matches_the_loaded_run(tmp_path):
     out = ballagg.run(small(stop={"clusters": 20}), out=str(tmp_path / "run"))
     sim = ballagg.Simulation(small(stop={"clusters": 20}))
     sim.run()
-    a, b = sim.analyze(), ballagg.load(out).analyze()
-    assert a["contacts"] == b["contacts"]
-    assert np.array_equal(a["clusters"]["size"], b["clusters"]["size"])
-    assert a["box_counting"]["dimension"] == b["box_counting"]["dimension"]
+    (a, a_tables), (b, b_tables) = sim.analyze(tables=True), ballagg.load(out).analyze(tables=True)
+    assert a["all_spheres"]["contacts"] == b["all_spheres"]["contacts"]
+    assert np.array_equal(a_tables["clusters"]["size"], b_tables["clusters"]["size"])
+    assert a["all_spheres"]["box_counting"]["dimension"] == b["all_spheres"]["box_counting"]["dimension"]
     c = ballagg.analyze(sim.positions, sim.radii, sim.cluster_ids, sim.box_length, masses=sim.masses)
-    assert c["contacts"] == a["contacts"]
+    assert c["all_spheres"]["contacts"] == a["all_spheres"]["contacts"]
+
+
+def key_tree(value):
+    """The keys and nesting of a JSON-like value: dicts by key, lists by position."""
+    if isinstance(value, dict):
+        return {k: key_tree(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [key_tree(v) for v in value]
+    return None
+
+
+def test_analyze_has_the_schema_and_values_of_analysis_json(tmp_path):
+    for dimension in (2, 3):
+        config = small(system={"dimension": dimension, "n": 150}, stop={"clusters": 30})
+        out = ballagg.run(config, out=str(tmp_path / f"run{dimension}"))
+        subprocess.run([BINARY, "analyze", "--quiet", out], check=True)
+        with open(os.path.join(out, "analysis.json")) as f:
+            written = json.load(f)
+        sim = ballagg.Simulation(config)
+        sim.run()
+        from_simulation = sim.analyze()
+        from_run = ballagg.load(out).analyze()
+        assert list(from_simulation) == list(written)  # the same keys in the same order
+        assert key_tree(from_simulation) == key_tree(written) == key_tree(from_run)
+        assert from_run == written
+        assert from_simulation["state_file"] is None
+        assert {**from_simulation, "state_file": written["state_file"]} == written
+        _, tables = ballagg.load(out).analyze(tables=True)
+        assert sorted(f"{name}.csv" for name in tables) == sorted(written["files"])
+        for name, columns in tables.items():
+            on_disk = np.genfromtxt(os.path.join(out, f"{name}.csv"), delimiter=",", names=True, dtype=None,
+                                    encoding="utf-8")
+            assert list(columns) == list(on_disk.dtype.names)
+            for column, values in columns.items():
+                expected = np.atleast_1d(on_disk[column])
+                if values.dtype.kind in "iuf":
+                    assert np.array_equal(values, expected.astype(values.dtype), equal_nan=True), (name, column)
+                else:
+                    assert list(values) == [str(v) for v in expected], (name, column)
 
 
 # ---- rigid bodies (engine.kind = "rigid-body") -------------------------------------------
