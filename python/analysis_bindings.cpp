@@ -1,6 +1,9 @@
 // Every function of src/ballagg/analysis/ on numpy arrays (docs/python.md, docs/analysis.md
 // for the definitions): positions are (n, D) arrays, D = 2 or 3.
+#include <cmath>
 #include <limits>
+
+#include <fmt/format.h>
 
 #include "analysis_convert.hpp"
 #include "bindings.hpp"
@@ -147,12 +150,21 @@ void bind_analysis(py::module_& m) {
     return by_dimension(dimension_of(points, "points"), [&]<int D>() -> py::object { return gyration_dict<D>(gyration_shape<D>(to_points<D>(points, "points"))); });
   }, py::arg("points"), "Gyration tensor of points: aspect ratio A_r (4.3), orientation D (4.4), R_g.");
 
-  m.def("box_counting", [](const DoubleArray& points, double box_length, bool periodic, double length_unit) {
+  m.def("box_counting", [](const DoubleArray& points, double box_length, bool periodic, std::optional<double> length_unit,
+                           const py::object& radii) {
     return by_dimension(dimension_of(points, "points"), [&]<int D>() -> py::object {
-      return box_counting_dict(box_counting<D>(make_box<D>(box_length, periodic), to_points<D>(points, "points"), length_unit));
+      const std::vector<Vec<D>> x = to_points<D>(points, "points");
+      const double unit = length_unit ? *length_unit
+                          : radii.is_none() ? SystemConfig{}.radius
+                                            : length_unit_of(to_vector<double>(radii.cast<DoubleArray>(), x.size(), "radii"));
+      if (!(unit > 0.0) || !std::isfinite(unit)) throw py::value_error(fmt::format("length_unit = {}: must be a number > 0", unit));
+      return box_counting_dict(box_counting<D>(make_box<D>(box_length, periodic), x, unit));
     });
-  }, py::arg("points"), py::arg("box_length"), py::arg("periodic") = false, py::arg("length_unit"),
-     "Box-counting dimension (4.7) of points in the box; length_unit is the sphere radius R.");
+  }, py::arg("points"), py::arg("box_length"), py::arg("periodic") = false, py::arg("length_unit") = py::none(),
+     py::arg("radii") = py::none(),
+     "Box-counting dimension (4.7) of points in the box, fitted over 3 length_unit <= eps <= L/2. length_unit is the "
+     "sphere radius R, as in `ballagg analyze`: by default R of `radii` (their common value, else their mean), or "
+     "without radii the default system.radius (0.2).");
 
   m.def("count_contacts", [](const DoubleArray& positions, const DoubleArray& radii, const IntArray& cluster_ids,
                              double box_length, bool periodic, double alpha_r) {

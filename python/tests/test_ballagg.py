@@ -404,3 +404,68 @@ def test_run_refuses_a_directory_holding_another_run_unless_overwrite(tmp_path):
     assert (tmp_path / "run" / "summary.json").read_text() == summary
     ballagg.run(small(initial={"seed": 9}, stop={"clusters": 150}), out=out, overwrite=True)
     assert '"seed": 9' in (tmp_path / "run" / "summary.json").read_text()
+
+
+# ---- values and keys as Python gives them ------------------------------------------------
+
+@pytest.mark.parametrize("sections, message", [
+    ({"system": {"nn": 1}}, r"^system\.nn: unknown key 'system\.nn' \(keys of \[system\]"),
+    ({"system": {"n": -3}}, r"^system\.n = -3: must be an integer from 1 to"),
+    ({"stop": {"time": "x"}}, r"^stop\.time = \"x\": must be a number > 0"),
+    ({"warp": {"a": 1}}, r"^warp: unknown section \[warp\]"),
+])
+def test_errors_name_the_python_key_not_the_command_line(sections, message):
+    for given in ({"config": sections}, {"config": None, "overrides": sections}):
+        with pytest.raises(ballagg.InputError, match=message) as error:
+            ballagg.Config(given["config"], overrides=given.get("overrides"))
+        assert "--set" not in str(error.value) and "\n" not in str(error.value)
+
+
+def test_numpy_scalars_and_arrays_are_configuration_values():
+    c = ballagg.Config({"system": {"n": np.int64(50), "dimension": np.int32(3), "radius": np.float32(0.5),
+                                   "mass": np.float64(2.0)},
+                        "initial": {"seed": np.uint16(7), "zero_momentum": np.bool_(True)},
+                        "output": {"snapshot_formats": np.array(["h5md", "xyz"])}}).to_dict()
+    assert c["system"]["n"] == 50 and c["system"]["dimension"] == 3
+    assert c["system"]["radius"] == 0.5 and c["system"]["mass"] == 2.0
+    assert c["initial"]["seed"] == 7 and c["initial"]["zero_momentum"] is True
+    assert c["output"]["snapshot_formats"] == ["h5md", "xyz"]
+    sim = ballagg.Simulation({"system": {"n": np.int64(30)}})
+    assert sim.n_spheres == 30
+
+
+@pytest.mark.parametrize("value", [100.0, np.float64(100.0), np.float32(100.0)])
+def test_a_float_for_an_integer_key_is_refused(value):
+    with pytest.raises(ballagg.InputError, match=r"^system\.n = 100\.0: must be an integer \(a Python int or a numpy "
+                                                  r"integer\), not a float$"):
+        ballagg.Config({"system": {"n": value}})
+    with pytest.raises(ballagg.InputError, match=r"^stop\.clusters = 100\.0: must be an integer"):
+        ballagg.Simulation(None, overrides={"stop": {"clusters": value}})
+    assert ballagg.Config({"stop": {"time": 3}}).to_dict()["stop"]["time"] == 3.0  # an int for a float key
+
+
+def test_a_section_that_is_not_a_dict_is_a_type_error():
+    with pytest.raises(TypeError, match=r"^n: a int where a section's dict of keys belongs"):
+        ballagg.Config({"n": 100})
+    with pytest.raises(TypeError, match=r"^system\.n: a object is not a configuration value"):
+        ballagg.Config({"system": {"n": object()}})
+
+
+def test_box_counting_length_unit_defaults_to_the_sphere_radius():
+    t = np.linspace(0.0, 64.0, 4097)[:-1]
+    line = np.column_stack([t, np.full_like(t, 32.0)])
+    radii = np.full(len(t), 0.1)
+    by_radii = ballagg.box_counting(line, box_length=64.0, radii=radii)
+    by_unit = ballagg.box_counting(line, box_length=64.0, length_unit=0.1)
+    assert np.array_equal(by_radii["fitted"], by_unit["fitted"]) and by_radii["dimension"] == by_unit["dimension"]
+    default = ballagg.box_counting(line, box_length=64.0)  # R = 0.2, the default system.radius
+    assert np.array_equal(default["fitted"], ballagg.box_counting(line, box_length=64.0, length_unit=0.2)["fitted"])
+    assert not np.array_equal(default["fitted"], by_unit["fitted"])  # the unit sets the fitted range
+    # As `ballagg analyze`: its box counting over all spheres uses R of the spheres.
+    sim = ballagg.Simulation(small(stop={"clusters": 20}))
+    sim.run()
+    a = sim.analyze()
+    ours = ballagg.box_counting(sim.positions, sim.box_length, radii=sim.radii)
+    assert ours["dimension"] == a["all_spheres"]["box_counting"]["dimension"]
+    with pytest.raises(ValueError, match="length_unit = -1: must be a number > 0"):
+        ballagg.box_counting(line, box_length=64.0, length_unit=-1.0)
