@@ -469,3 +469,98 @@ def test_box_counting_length_unit_defaults_to_the_sphere_radius():
     assert ours["dimension"] == a["all_spheres"]["box_counting"]["dimension"]
     with pytest.raises(ValueError, match="length_unit = -1: must be a number > 0"):
         ballagg.box_counting(line, box_length=64.0, length_unit=-1.0)
+
+
+# ---- callbacks in simulated time, output files ---------------------------------------------
+
+@pytest.mark.parametrize("engine", ["ed", "ts", "rigid-body"])
+def test_callback_every_time_sees_the_state_at_exact_multiples(tmp_path, engine):
+    config = small(engine={"kind": engine}, stop={"time": 3.0},
+                   output={"snapshot_every": 0.5, "snapshot_precision": "double"})
+    seen = []
+    sim = ballagg.Simulation(config)
+    result = sim.run(lambda s: seen.append((s.time, s.positions, s.velocities, s.n_clusters)), every_time=0.5)
+    assert result["stop_reason"] == "time" and sim.time == 3.0
+    assert [t for t, *_ in seen] == [0.5 * k for k in range(1, 7)]
+    # The frames of `ballagg run` at the same times (double precision) hold the same state.
+    run = ballagg.load(ballagg.run(config, out=str(tmp_path / "run")))
+    for k, (t, x, v, clusters) in enumerate(seen, start=1):
+        frame = run.frame(k)
+        assert frame["time"] == t
+        assert np.array_equal(frame["positions"], x) and np.array_equal(frame["velocities"], v)
+        assert frame["n_clusters"] == clusters
+    again = []
+    ballagg.Simulation(config).run(lambda s: again.append((s.time, s.positions)), every_time=0.5)
+    assert all(a[0] == b[0] and np.array_equal(a[1], b[1]) for a, b in zip(seen, again))  # deterministic
+
+
+def test_callback_every_time_ends_the_run_at_its_time_and_run_goes_on():
+    sim = ballagg.Simulation(small(stop={"time": 4.0}))
+    times = []
+
+    def until_1_5(s):
+        times.append(s.time)
+        return s.time < 1.5
+
+    assert sim.run(until_1_5, every_time=0.25)["stop_reason"] == "callback"
+    assert sim.time == 1.5 and times[-1] == 1.5
+    x = sim.positions
+    assert sim.run(lambda s: times.append(s.time), every_time=0.25, time=2.0)["stop_reason"] == "time"
+    assert times == [0.25 * k for k in range(1, 9)]
+    assert not np.array_equal(x, sim.positions)
+
+
+@pytest.mark.parametrize("arguments, error, message", [
+    ({"every": 2, "every_time": 0.5}, ValueError, "not both"),
+    ({"every_time": 0.0}, ballagg.InputError, r"every_time = 0: must be a number > 0"),
+    ({"every_time": -1.0}, ballagg.InputError, r"every_time = -1: must be a number > 0"),
+    ({"every_time": math.nan}, ballagg.InputError, r"every_time = nan: must be a number > 0"),
+    ({"every_time": math.inf}, ballagg.InputError, r"every_time = inf: must be finite"),
+    ({"every": 0}, ValueError, r"every = 0: must be an integer >= 1"),
+])
+def test_run_refuses_bad_callback_intervals(arguments, error, message):
+    sim = ballagg.Simulation(small())
+    with pytest.raises(error, match=message):
+        sim.run(lambda s: None, **arguments)
+    assert sim.time == 0.0
+
+
+def test_simulation_writes_the_output_files_of_ballagg_run(tmp_path):
+    config = small(output={"snapshot_every": 2.0, "snapshot_formats": ["h5md", "xyz", "gsd"],
+                           "timeseries_interval": 1.0})
+    cli = ballagg.run(config, out=str(tmp_path / "cli"))
+    sim = ballagg.Simulation(config)
+    seen = []
+    assert sim.run(lambda s: seen.append(s.time), every_time=1.0, out=tmp_path / "python")["stop_reason"] == "clusters"
+    written = sorted(os.listdir(tmp_path / "python"))
+    assert written == ["timeseries.csv", "trajectory.gsd", "trajectory.h5md", "trajectory.xyz"]
+    for name in written:
+        assert (tmp_path / "python" / name).read_bytes() == open(os.path.join(cli, name), "rb").read(), name
+    assert len(seen) == int(sim.time)
+    # Another run's files are kept unless overwrite=True.
+    with pytest.raises(ballagg.InputError, match="holds another run"):
+        ballagg.Simulation(config).run(out=tmp_path / "python")
+    ballagg.Simulation(config).run(out=tmp_path / "python", overwrite=True)
+
+
+def test_output_of_a_run_whose_callback_fails_is_not_left_behind(tmp_path):
+    sim = ballagg.Simulation(small(output={"snapshot_every": 0.5}))
+
+    def fail(s):
+        raise KeyError("from the callback")
+
+    with pytest.raises(KeyError, match="from the callback"):
+        sim.run(fail, every_time=1.0, out=tmp_path / "out")
+    assert not os.path.exists(tmp_path / "out")
+
+
+def test_output_of_a_run_ended_by_its_callback_ends_at_that_time(tmp_path):
+    config = small(output={"snapshot_every": 0.5, "snapshot_precision": "double"})
+    sim = ballagg.Simulation(config)
+    assert sim.run(lambda s: s.time < 2.0, every_time=1.0, out=tmp_path / "out")["stop_reason"] == "callback"
+    import h5py  # Debian's python3-h5py, as tests/io/check_h5md.py
+    with h5py.File(tmp_path / "out" / "trajectory.h5md", "r") as f:
+        times = list(f["particles/all/position/time"][()])
+        last = f["particles/all/position/value"][-1]
+    assert times == [0.5 * k for k in range(5)]
+    assert np.array_equal(last, sim.positions)
