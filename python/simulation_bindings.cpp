@@ -10,6 +10,7 @@
 #include "analysis_convert.hpp"
 #include "bindings.hpp"
 #include "simulation.hpp"
+#include "state_from_arrays.hpp"
 
 #include "ballagg/analysis/overlap.hpp"
 #include "ballagg/initial/initial_state.hpp"
@@ -120,14 +121,22 @@ void bind_simulation_in(py::module_& m, const char* name) {
 void bind_simulation(py::module_& m) {
   bind_simulation_in<2>(m, "Simulation2D");
   bind_simulation_in<3>(m, "Simulation3D");
-  m.def("Simulation", [](const py::object& config, const py::object& overrides) -> py::object {
+  m.def("Simulation", [](const py::object& config, const py::object& overrides, const py::object& state) -> py::object {
     if (py::isinstance<Config>(config) && !overrides.is_none())
       throw py::value_error("overrides apply to a dict or a TOML path, not to a Config");
     const Config c = py::isinstance<Config>(config) ? config.cast<Config>() : config_from(config, overrides);
+    if (!state.is_none()) {
+      const ArrayState& s = state.cast<const ArrayState&>();
+      return by_dimension(s.dimension, [&]<int D>() -> py::object {
+        const Config given = config_for_state<D>(c, s);
+        return py::cast(Simulation<D>(given, state_from_spheres<D>(given, std::get<SphereTable<D>>(s.spheres))));
+      });
+    }
     if (c.system.dimension == 2) return py::cast(Simulation<2>(c));
     return py::cast(Simulation<3>(c));
-  }, py::arg("config") = py::none(), py::arg("overrides") = py::none(),
-     "A simulation of a Config (or of what Config() accepts: None, a dict, a TOML path), at its initial state.");
+  }, py::arg("config") = py::none(), py::arg("overrides") = py::none(), py::kw_only(), py::arg("state") = py::none(),
+     "A simulation of a Config (or of what Config() accepts: None, a dict, a TOML path), at its initial state, or at "
+     "`state` (a ballagg.State: its spheres and box length, checked as a state file is).");
 
   m.def("run", [](const py::object& config, const std::string& out, bool quiet, bool overwrite) {
     const Config c = py::isinstance<Config>(config) ? config.cast<Config>() : config_from(config, py::none());

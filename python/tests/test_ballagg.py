@@ -564,3 +564,76 @@ def test_output_of_a_run_ended_by_its_callback_ends_at_that_time(tmp_path):
         last = f["particles/all/position/value"][-1]
     assert times == [0.5 * k for k in range(5)]
     assert np.array_equal(last, sim.positions)
+
+
+# ---- a state from numpy arrays -----------------------------------------------------------
+
+def test_state_from_arrays_runs_as_the_same_state_file(tmp_path):
+    """Arrays and the state file of the same spheres give the same run, byte for byte."""
+    start = ballagg.Simulation(small(system={"boundary": "periodic"}))
+    start.run(clusters=150)  # some glued clusters
+    x, v, r, m, ids = start.positions, start.velocities, start.radii, start.masses, start.cluster_ids
+    start.write_state(str(tmp_path / "start.csv"))
+    physics = {"system": {"boundary": "periodic"}, "output": {"timeseries_interval": 0.5}}
+    from_file = ballagg.Simulation({**physics, "system": {"boundary": "periodic", "box_length": start.box_length},
+                                    "initial": {"positions": "file", "file": str(tmp_path / "start.csv")}})
+    state = ballagg.State.from_arrays(x, v, r, m, ids, box_length=start.box_length)
+    assert state.dimension == 2 and state.n_spheres == 200 and state.box_length == start.box_length
+    from_arrays = ballagg.Simulation(physics, state=state)
+    assert from_arrays.n_clusters == from_file.n_clusters == 150
+    from_file.run(out=tmp_path / "file")
+    from_arrays.run(out=tmp_path / "arrays")
+    from_file.write_state(str(tmp_path / "file" / "final.csv"))
+    from_arrays.write_state(str(tmp_path / "arrays" / "final.csv"))
+    for name in ["final.csv", "timeseries.csv"]:
+        assert (tmp_path / "file" / name).read_bytes() == (tmp_path / "arrays" / name).read_bytes(), name
+    assert from_arrays.n_clusters == 1
+
+
+def test_state_from_arrays_in_3d_with_spins_and_integer_ids_of_any_kind():
+    x = np.array([[2.0, 2.0, 2.0], [3.0, 2.0, 2.0], [7.0, 7.0, 7.0]])
+    v = np.array([[0.5, 0.0, 0.0], [0.5, 0.0, 0.0], [-0.5, -0.5, 0.0]])
+    w = np.array([[0.0, 0.0, 0.1], [0.0, 0.0, 0.1], [0.0, 0.0, 0.0]])
+    state = ballagg.State.from_arrays(x, v, np.full(3, 0.5), np.ones(3), np.array([4, 4, 9], dtype=np.int32),
+                                      box_length=10.0, angular_velocities=w)
+    sim = ballagg.Simulation({"system": {"dimension": 3}, "engine": {"kind": "rigid-body"}}, state=state)
+    assert sim.n_clusters == 2 and sim.dimension == 3
+    assert np.allclose(sim.angular_velocities[:2], [[0.0, 0.0, 0.1]] * 2)
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda a: a["radii"].__setitem__(3, 1e102), r"^radii\[3\]: 1e\+102 is outside \["),
+    (lambda a: a["masses"].__setitem__(5, 0.0), r"^masses\[5\]: 0 is outside \["),
+    (lambda a: a["velocities"].__setitem__(2, [1e300, 0.0]), r"^velocities\[2\]: the speed 1e\+300 is above"),
+    (lambda a: a["positions"].__setitem__(1, [np.nan, 1.0]), r"^positions\[1, 0\] = nan: must be a finite number"),
+    (lambda a: a["radii"].__setitem__(0, np.inf), r"^radii\[0\] = inf: must be a finite number"),
+    (lambda a: a["positions"].__setitem__(1, a["positions"][0] + [0.1, 0.0]),
+     r"^sphere 0: this sphere overlaps sphere 1 by 0\.9 of their contact distance"),
+    (lambda a: a["positions"].__setitem__(2, [-30.0, 5.0]), r"^positions\[2, 0\]: -30 is more than \S+ box length"),
+])
+def test_state_from_arrays_errors_name_the_array_and_the_index(change, message):
+    arrays = {"positions": np.array([[1.0 + 2.0 * k, 5.0] for k in range(6)]), "velocities": np.zeros((6, 2)),
+              "radii": np.full(6, 0.5), "masses": np.ones(6)}
+    change(arrays)
+    with pytest.raises(ballagg.InputError, match=message) as error:
+        state = ballagg.State.from_arrays(**arrays, box_length=12.0)
+        ballagg.Simulation({"system": {"boundary": "periodic"}}, state=state)
+    assert "\n" not in str(error.value)
+
+
+def test_state_from_arrays_refuses_shapes_and_kinds_that_do_not_fit():
+    x, v, r, m = np.array([[1.0, 1.0], [3.0, 1.0]]), np.zeros((2, 2)), np.full(2, 0.5), np.ones(2)
+    with pytest.raises(ValueError, match=r"velocities must be an \(2, 2\) array"):
+        ballagg.State.from_arrays(x, np.zeros((2, 3)), r, m, box_length=10.0)
+    with pytest.raises(ValueError, match="radii must be a 1-d array of length 2"):
+        ballagg.State.from_arrays(x, v, np.full(3, 0.5), m, box_length=10.0)
+    with pytest.raises(TypeError, match="cluster_ids must be an array of integers"):
+        ballagg.State.from_arrays(x, v, r, m, np.array([0.0, 1.0]), box_length=10.0)
+    with pytest.raises(ballagg.InputError, match=r"box_length = -1: must be a number > 0"):
+        ballagg.State.from_arrays(x, v, r, m, box_length=-1.0)
+    state = ballagg.State.from_arrays(x, v, r, m, box_length=10.0)
+    with pytest.raises(ballagg.InputError, match=r"the state is 2D .*, the configuration 3D"):
+        ballagg.Simulation({"system": {"dimension": 3}}, state=state)
+    with pytest.raises(ballagg.InputError, match=r"sphere 1: velocity \(1, 0\) differs from \(0, 0\)"):
+        ballagg.Simulation(None, state=ballagg.State.from_arrays(x, np.array([[0.0, 0.0], [1.0, 0.0]]), r, m,
+                                                                  [7, 7], box_length=10.0))
