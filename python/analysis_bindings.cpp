@@ -125,7 +125,85 @@ std::vector<std::int32_t> partition_labels(const IntArray& labels, std::size_t n
 
 }  // namespace
 
+namespace {
+
+// The functions of one cluster and of cluster labels: mass-radius, partitions, the mass
+// spectrum, unwrapping, and the line fit they use.
+void bind_cluster_functions(py::module_& m) {
+  m.def("mass_radius", [](const IntArray& members, const DoubleArray& positions, const DoubleArray& radii,
+                          const DoubleArray& masses, double length_unit, double radius_of_gyration) {
+    return by_dimension(dimension_of(positions), [&]<int D>() -> py::object {
+      const std::vector<Vec<D>> x = to_points<D>(positions);
+      const std::vector<std::int64_t> m64(members.data(), members.data() + members.size());
+      const std::vector<std::int32_t> ids(m64.begin(), m64.end());
+      for (std::int32_t i : ids)
+        if (i < 0 || static_cast<std::size_t>(i) >= x.size()) throw py::index_error("members: a sphere index out of range");
+      return mass_radius_dict<D>(mass_radius<D>(ids, x, to_vector<double>(radii, x.size(), "radii"),
+                                                to_vector<double>(masses, x.size(), "masses"), length_unit, radius_of_gyration));
+    });
+  }, py::arg("members"), py::arg("positions"), py::arg("radii"), py::arg("masses"), py::arg("length_unit"),
+     py::arg("radius_of_gyration"), "Mass-radius relation of one cluster (unwrapped positions): R_max, f_D.");
+
+  m.def("partition_clusters", [](const IntArray& cluster_ids) {
+    const ClusterPartition p = partition_clusters(to_vector<std::int64_t>(cluster_ids, cluster_ids.size(), "cluster_ids"),
+                                                  static_cast<int>(cluster_ids.size()));
+    py::dict d;
+    d["label"] = from_vector(p.label);
+    d["start"] = from_vector(p.start);
+    d["members"] = from_vector(p.members);
+    return d;
+  }, py::arg("cluster_ids"), "Clusters numbered 0, 1, ... in order of first sphere; members grouped by cluster.");
+
+  m.def("kth_largest_cluster", [](const IntArray& cluster_ids, int k) {
+    return kth_largest_cluster(partition_labels(cluster_ids, cluster_ids.size()), k);
+  }, py::arg("cluster_ids"), py::arg("k") = 1, "Index of the k-th largest cluster (1: the largest).");
+
+  m.def("mass_spectrum", [](const IntArray& cluster_ids, const py::object& masses) {
+    const int n = static_cast<int>(cluster_ids.size());
+    const ClusterPartition clusters =
+        partition_clusters(to_vector<std::int64_t>(cluster_ids, cluster_ids.size(), "cluster_ids"), n);
+    const std::vector<double> mass =
+        masses.is_none() ? std::vector<double>(n, 1.0) : to_vector<double>(masses.cast<DoubleArray>(), n, "masses");
+    std::vector<std::pair<std::int32_t, double>> size_and_mass;
+    for (int c = 0; c < clusters.n_clusters(); ++c) {
+      double cluster_mass = 0.0;
+      for (std::int32_t i : clusters.members_of(c)) cluster_mass += mass[i];
+      size_and_mass.push_back({clusters.size(c), cluster_mass});
+    }
+    std::vector<std::int64_t> size, count;
+    std::vector<double> bin_mass;
+    for (const MassSpectrumBin& b : mass_spectrum(size_and_mass))
+      size.push_back(b.size), bin_mass.push_back(b.mass), count.push_back(b.clusters);
+    py::dict d;
+    d["size"] = from_vector(size);
+    d["mass"] = from_vector(bin_mass);
+    d["clusters"] = from_vector(count);
+    return d;
+  }, py::arg("cluster_ids"), py::arg("masses") = py::none(),
+     "Number of clusters of each size and mass (masses default to 1 per sphere).");
+
+  m.def("unwrap_clusters", [](const DoubleArray& positions, const DoubleArray& radii, const IntArray& cluster_ids,
+                              double box_length, bool periodic) {
+    return by_dimension(dimension_of(positions), [&]<int D>() -> py::object {
+      const std::vector<Vec<D>> x = to_points<D>(positions);
+      const ClusterPartition p = partition_clusters(to_vector<std::int64_t>(cluster_ids, x.size(), "cluster_ids"),
+                                                    static_cast<int>(x.size()));
+      const UnwrappedClusters<D> u = unwrap_clusters<D>(make_box<D>(box_length, periodic), x,
+                                                        to_vector<double>(radii, x.size(), "radii"), p);
+      return py::make_tuple(from_points<D>(u.position),
+                            from_vector(std::vector<std::uint8_t>(u.percolating.begin(), u.percolating.end())).attr("astype")("bool"));
+    });
+  }, py::arg("positions"), py::arg("radii"), py::arg("cluster_ids"), py::arg("box_length"), py::arg("periodic") = true,
+     "Positions with every cluster in one piece across periodic faces, and which clusters percolate.");
+
+  m.def("fit_line", [](const std::vector<double>& x, const std::vector<double>& y) { return fit_object(fit_line(x, y)); },
+        py::arg("x"), py::arg("y"), "Least-squares line y = slope x + intercept with standard errors (None if degenerate).");
+}
+
+}  // namespace
+
 void bind_analysis(py::module_& m) {
+  bind_cluster_functions(m);
   m.def("analyze", [](const DoubleArray& positions, const DoubleArray& radii, const IntArray& cluster_ids,
                       double box_length, bool periodic, const py::object& masses, const py::object& velocities,
                       bool tables) {
@@ -199,75 +277,6 @@ void bind_analysis(py::module_& m) {
      py::arg("periodic") = false, py::arg("cluster_extent") = std::numeric_limits<double>::infinity(),
      "P(r) (4.6) of all spheres and of one cluster (its index in order of first sphere); the cluster's fit "
      "stops at cluster_extent (an upper bound on its diameter).");
-
-  m.def("mass_radius", [](const IntArray& members, const DoubleArray& positions, const DoubleArray& radii,
-                          const DoubleArray& masses, double length_unit, double radius_of_gyration) {
-    return by_dimension(dimension_of(positions), [&]<int D>() -> py::object {
-      const std::vector<Vec<D>> x = to_points<D>(positions);
-      const std::vector<std::int64_t> m64(members.data(), members.data() + members.size());
-      const std::vector<std::int32_t> ids(m64.begin(), m64.end());
-      for (std::int32_t i : ids)
-        if (i < 0 || static_cast<std::size_t>(i) >= x.size()) throw py::index_error("members: a sphere index out of range");
-      return mass_radius_dict<D>(mass_radius<D>(ids, x, to_vector<double>(radii, x.size(), "radii"),
-                                                to_vector<double>(masses, x.size(), "masses"), length_unit, radius_of_gyration));
-    });
-  }, py::arg("members"), py::arg("positions"), py::arg("radii"), py::arg("masses"), py::arg("length_unit"),
-     py::arg("radius_of_gyration"), "Mass-radius relation of one cluster (unwrapped positions): R_max, f_D.");
-
-  m.def("partition_clusters", [](const IntArray& cluster_ids) {
-    const ClusterPartition p = partition_clusters(to_vector<std::int64_t>(cluster_ids, cluster_ids.size(), "cluster_ids"),
-                                                  static_cast<int>(cluster_ids.size()));
-    py::dict d;
-    d["label"] = from_vector(p.label);
-    d["start"] = from_vector(p.start);
-    d["members"] = from_vector(p.members);
-    return d;
-  }, py::arg("cluster_ids"), "Clusters numbered 0, 1, ... in order of first sphere; members grouped by cluster.");
-
-  m.def("kth_largest_cluster", [](const IntArray& cluster_ids, int k) {
-    return kth_largest_cluster(partition_labels(cluster_ids, cluster_ids.size()), k);
-  }, py::arg("cluster_ids"), py::arg("k") = 1, "Index of the k-th largest cluster (1: the largest).");
-
-  m.def("mass_spectrum", [](const IntArray& cluster_ids, const py::object& masses) {
-    const int n = static_cast<int>(cluster_ids.size());
-    const ClusterPartition clusters =
-        partition_clusters(to_vector<std::int64_t>(cluster_ids, cluster_ids.size(), "cluster_ids"), n);
-    const std::vector<double> mass =
-        masses.is_none() ? std::vector<double>(n, 1.0) : to_vector<double>(masses.cast<DoubleArray>(), n, "masses");
-    std::vector<std::pair<std::int32_t, double>> size_and_mass;
-    for (int c = 0; c < clusters.n_clusters(); ++c) {
-      double cluster_mass = 0.0;
-      for (std::int32_t i : clusters.members_of(c)) cluster_mass += mass[i];
-      size_and_mass.push_back({clusters.size(c), cluster_mass});
-    }
-    std::vector<std::int64_t> size, count;
-    std::vector<double> bin_mass;
-    for (const MassSpectrumBin& b : mass_spectrum(size_and_mass))
-      size.push_back(b.size), bin_mass.push_back(b.mass), count.push_back(b.clusters);
-    py::dict d;
-    d["size"] = from_vector(size);
-    d["mass"] = from_vector(bin_mass);
-    d["clusters"] = from_vector(count);
-    return d;
-  }, py::arg("cluster_ids"), py::arg("masses") = py::none(),
-     "Number of clusters of each size and mass (masses default to 1 per sphere).");
-
-  m.def("unwrap_clusters", [](const DoubleArray& positions, const DoubleArray& radii, const IntArray& cluster_ids,
-                              double box_length, bool periodic) {
-    return by_dimension(dimension_of(positions), [&]<int D>() -> py::object {
-      const std::vector<Vec<D>> x = to_points<D>(positions);
-      const ClusterPartition p = partition_clusters(to_vector<std::int64_t>(cluster_ids, x.size(), "cluster_ids"),
-                                                    static_cast<int>(x.size()));
-      const UnwrappedClusters<D> u = unwrap_clusters<D>(make_box<D>(box_length, periodic), x,
-                                                        to_vector<double>(radii, x.size(), "radii"), p);
-      return py::make_tuple(from_points<D>(u.position),
-                            from_vector(std::vector<std::uint8_t>(u.percolating.begin(), u.percolating.end())).attr("astype")("bool"));
-    });
-  }, py::arg("positions"), py::arg("radii"), py::arg("cluster_ids"), py::arg("box_length"), py::arg("periodic") = true,
-     "Positions with every cluster in one piece across periodic faces, and which clusters percolate.");
-
-  m.def("fit_line", [](const std::vector<double>& x, const std::vector<double>& y) { return fit_object(fit_line(x, y)); },
-        py::arg("x"), py::arg("y"), "Least-squares line y = slope x + intercept with standard errors (None if degenerate).");
 }
 
 template py::dict gyration_dict<2>(const GyrationShape<2>&);
