@@ -336,22 +336,12 @@ State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table_in) {
   return s;
 }
 
+namespace {
+
+// What every initial state gets once its spheres are assembled: spins only for the engine
+// that rotates clusters, initial.zero_momentum, and the rigid-body engine's centres of mass.
 template <int D>
-State<D> make_initial_state(const Config& c) {
-  Box<D> box{resolved_box_length(c), c.system.boundary};
-  SphereTable<D> table;
-  if (c.initial.positions == InitialPositions::file) {
-    table = read_state_csv<D>(c.initial.file);
-    check_state_ranges(table, box, c);
-  } else {
-    table.position = c.initial.positions == InitialPositions::lattice ? lattice_positions<D>(c, box)
-                                                                      : random_positions<D>(c, box);
-    table.velocity = random_velocities<D>(c, c.system.n);
-    table.radius.assign(c.system.n, c.system.radius);
-    table.mass.assign(c.system.n, c.system.mass);
-  }
-  State<D> s = assemble_state(box, table);
-  if (c.initial.positions == InitialPositions::file) check_sphere_layout(box, table, layout_tolerance(c));
+State<D> finish_initial_state(const Config& c, State<D> s, const SphereTable<D>& table) {
   if (c.engine.kind != EngineKind::rigid_body) {
     for (std::size_t i = 0; i < table.spin.size(); ++i)
       if (table.spin[i] != Spin<D>::Zero())
@@ -369,7 +359,33 @@ State<D> make_initial_state(const Config& c) {
   return s;
 }
 
+}  // namespace
+
+template <int D>
+State<D> make_initial_state(const Config& c) {
+  if (c.initial.positions == InitialPositions::file) return state_from_spheres<D>(c, read_state_csv<D>(c.initial.file));
+  Box<D> box{resolved_box_length(c), c.system.boundary};
+  SphereTable<D> table;
+  table.position = c.initial.positions == InitialPositions::lattice ? lattice_positions<D>(c, box)
+                                                                    : random_positions<D>(c, box);
+  table.velocity = random_velocities<D>(c, c.system.n);
+  table.radius.assign(c.system.n, c.system.radius);
+  table.mass.assign(c.system.n, c.system.mass);
+  return finish_initial_state(c, assemble_state(box, table), table);
+}
+
+template <int D>
+State<D> state_from_spheres(const Config& c, const SphereTable<D>& table) {
+  Box<D> box{resolved_box_length(c), c.system.boundary};
+  check_state_ranges(table, box, c);
+  State<D> s = assemble_state(box, table);
+  check_sphere_layout(box, table, layout_tolerance(c));
+  return finish_initial_state(c, std::move(s), table);
+}
+
 template State<2> make_initial_state<2>(const Config&);
+template State<2> state_from_spheres<2>(const Config&, const SphereTable<2>&);
+template State<3> state_from_spheres<3>(const Config&, const SphereTable<3>&);
 template State<3> make_initial_state<3>(const Config&);
 template State<2> assemble_state<2>(const Box<2>&, const SphereTable<2>&);
 template State<3> assemble_state<3>(const Box<3>&, const SphereTable<3>&);

@@ -28,31 +28,44 @@ std::string spin_columns() {
   return D == 2 ? "wz" : "wx,wy,wz";
 }
 
+// Where a value of row i is: "FILE:LINE: column radius" in a state file; "radii[i]" in
+// the arrays a state is built from in Python (a table without file lines).
+template <int D>
+std::string value_at(const SphereTable<D>& t, int i, std::string_view columns, std::string_view array) {
+  if (t.line.empty()) return fmt::format("{}[{}]", array, i);
+  return fmt::format("{}: {}", row(t, i), columns);
+}
+
 // One row: each value within its own range.
 template <int D>
 void check_row(const SphereTable<D>& t, int i, const Box<D>& box) {
   const double radius = t.radius[i], mass = t.mass[i];
   if (radius < range::kMinRadius || radius > range::kMaxRadius)
-    throw InputError(fmt::format("{}: column radius: {} is outside [{}, {}] (choose units in which radii are near 1)",
-                                 row(t, i), radius, range::kMinRadius, range::kMaxRadius));
+    throw InputError(fmt::format("{}: {} is outside [{}, {}] (choose units in which radii are near 1)",
+                                 value_at(t, i, "column radius", "radii"), radius, range::kMinRadius, range::kMaxRadius));
   if (mass < range::kMinMass || mass > range::kMaxMass)
-    throw InputError(fmt::format("{}: column mass: {} is outside [{}, {}] (choose units in which masses are near 1)",
-                                 row(t, i), mass, range::kMinMass, range::kMaxMass));
+    throw InputError(fmt::format("{}: {} is outside [{}, {}] (choose units in which masses are near 1)",
+                                 value_at(t, i, "column mass", "masses"), mass, range::kMinMass, range::kMaxMass));
   const double speed = t.velocity[i].stableNorm();  // no overflow of the squares
   if (speed > range::kMaxSpeed)
-    throw InputError(fmt::format("{}: columns {}: the speed {:.6g} is above {} (choose units in which speeds are "
-                                 "near 1)", row(t, i), velocity_columns<D>(), speed, range::kMaxSpeed));
+    throw InputError(fmt::format("{}: the speed {:.6g} is above {} (choose units in which speeds are near 1)",
+                                 value_at(t, i, "columns " + velocity_columns<D>(), "velocities"), speed,
+                                 range::kMaxSpeed));
   if (!t.spin.empty() && t.spin[i].stableNorm() * radius > range::kMaxSpeed)
-    throw InputError(fmt::format("{}: columns {}: the spin {:.6g} times the radius {} is a speed above {}", row(t, i),
-                                 spin_columns<D>(), t.spin[i].stableNorm(), radius, range::kMaxSpeed));
+    throw InputError(fmt::format("{}: the spin {:.6g} times the radius {} is a speed above {}",
+                                 value_at(t, i, "columns " + spin_columns<D>(), "angular_velocities"),
+                                 t.spin[i].stableNorm(), radius, range::kMaxSpeed));
   if (!box.periodic()) return;  // walls: assemble_state checks that every sphere fits
   static constexpr const char* axes[] = {"x", "y", "z"};
   const double reach = range::kMaxPeriodicOverhang * box.length;
-  for (int a = 0; a < D; ++a)
-    if (t.position[i][a] < -reach || t.position[i][a] > box.length + reach)
-      throw InputError(fmt::format("{}: column {}: {} is more than {} box length outside [0, {}] (periodic box: "
-                                   "fold the coordinates into the box)",
-                                   row(t, i), axes[a], t.position[i][a], range::kMaxPeriodicOverhang, box.length));
+  for (int a = 0; a < D; ++a) {
+    if (t.position[i][a] >= -reach && t.position[i][a] <= box.length + reach) continue;
+    const std::string where = t.line.empty() ? fmt::format("positions[{}, {}]", i, a)
+                                             : fmt::format("{}: column {}", row(t, i), axes[a]);
+    throw InputError(fmt::format("{}: {} is more than {} box length outside [0, {}] (periodic box: fold the "
+                                 "coordinates into the box)",
+                                 where, t.position[i][a], range::kMaxPeriodicOverhang, box.length));
+  }
 }
 
 }  // namespace

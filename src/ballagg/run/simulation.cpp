@@ -28,6 +28,7 @@
 #include "ballagg/io/xyz.hpp"
 #include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/checkpointer.hpp"
+#include "ballagg/run/observer_list.hpp"
 #include "ballagg/run/progress.hpp"
 #include "ballagg/run/run_files.hpp"
 #include "ballagg/run/snapshots.hpp"
@@ -91,34 +92,6 @@ StopCriteria stop_criteria(const Config& c) {
 }
 
 namespace {
-
-template <int D>
-class ObserverList final : public RunObserver<D> {
- public:
-  void add(RunObserver<D>* o) { list_.push_back(o); }
-  void on_start(const State<D>& s) override { for (auto* o : list_) o->on_start(s); }
-  void before_event(const State<D>& s, double t) override { for (auto* o : list_) o->before_event(s, t); }
-  void after_event(const State<D>& s, const EventRecord& e, const EngineCounters& c) override {
-    for (auto* o : list_) o->after_event(s, e, c);
-  }
-  void on_finish(const State<D>& s, const RunResult& r) override { for (auto* o : list_) o->on_finish(s, r); }
-  bool checkpoint_due() override {
-    for (auto* o : list_)
-      if (o->checkpoint_due()) return true;
-    return false;
-  }
-  void on_checkpoint(const State<D>& s, const EngineCounters& c, const std::string& engine_state) override {
-    for (auto* o : list_) o->on_checkpoint(s, c, engine_state);
-  }
-  double next_position_read() const override {
-    double t = kNever;
-    for (auto* o : list_) t = std::min(t, o->next_position_read());
-    return t;
-  }
-
- private:
-  std::vector<RunObserver<D>*> list_;
-};
 
 template <int D>
 nlohmann::json vector_json(const Vec<D>& v) {
