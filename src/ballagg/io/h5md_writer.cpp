@@ -33,7 +33,7 @@ using hdf5::Series;
 // for fast writes, small enough that reading one sphere's history does not read whole
 // frames and that a block of every dataset stays in the cache between its assembly and its
 // write. The N spheres are cut into equal chunks (chunk_spheres): a last chunk mostly
-// beyond N would be written whole all the same (5 % of the file at N = 10^6).
+// beyond N would be written whole all the same, padding every frame of every dataset.
 constexpr int kMaxChunkSpheres = 1 << 16;
 
 int chunk_spheres(int n) {
@@ -413,11 +413,12 @@ struct H5mdWriter<D>::Impl {
 
   // A trajectory is written once and not read back by the run, so its pages need not stay
   // in the page cache: they are put on disk and dropped, and the next frames reuse the
-  // same memory. On the virtual machines we measure on, a page the kernel has not used
-  // lately costs far more than the copy into it: 3.9 GB in 34 MB writes took 13.7 s of
-  // system time, and 1.4 s when each write was followed by fdatasync and
-  // POSIX_FADV_DONTNEED (docs/performance.md, "Snapshots at N = 10^6"). A failed sync (a
-  // full disk) is an error here, at the frame that caused it.
+  // same memory. A page the kernel has not used lately can cost far more to reclaim than
+  // the copy into it (on virtual machines most of all), so a long trajectory written
+  // plainly would spend its time in the kernel; synced (fdatasync) and dropped
+  // (POSIX_FADV_DONTNEED) every kReleasePagesBytes, it reuses warm pages
+  // (docs/performance.md, "Snapshots at N = 10^6"). A failed sync (a full disk) is an
+  // error here, at the frame that caused it.
   void release_written_pages() {
     unreleased_bytes = 0;
     int* fd = nullptr;
