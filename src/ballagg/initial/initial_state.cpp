@@ -12,6 +12,7 @@
 
 #include "ballagg/core/random.hpp"
 #include "ballagg/core/tolerances.hpp"
+#include "ballagg/initial/polydisperse_start.hpp"
 #include "ballagg/initial/sphere_layout_check.hpp"
 #include "ballagg/initial/state_ranges.hpp"
 #include "ballagg/io/state_csv.hpp"
@@ -343,12 +344,15 @@ State<D> make_initial_state(const Config& c) {
   if (c.initial.positions == InitialPositions::file) {
     table = read_state_csv<D>(c.initial.file);
     check_state_ranges(table, box, c);
+  } else if (polydisperse(c.system)) {
+    table = sized_spheres<D>(c, box);
+    table.velocity = random_velocities<D>(c, c.system.n);
   } else {
     table.position = c.initial.positions == InitialPositions::lattice ? lattice_positions<D>(c, box)
                                                                       : random_positions<D>(c, box);
     table.velocity = random_velocities<D>(c, c.system.n);
     table.radius.assign(c.system.n, c.system.radius);
-    table.mass.assign(c.system.n, c.system.mass);
+    table.mass.assign(c.system.n, sphere_mass(c.system, c.system.radius));
   }
   State<D> s = assemble_state(box, table);
   if (c.initial.positions == InitialPositions::file) check_sphere_layout(box, table, layout_tolerance(c));

@@ -261,8 +261,11 @@ void verify_in_dimension(const RunDirectory& run, const Summary& summary, Checke
     energy += 0.5 * t.mass[i] * t.velocity[i].squaredNorm();
   }
   c.close("mass: mass_total", summary.number("mass_total"), mass, mass, verify_tolerance::kSum);
-  if (cfg.initial.positions != InitialPositions::file)
+  if (cfg.initial.positions != InitialPositions::file && !polydisperse(cfg.system) && !cfg.system.density)
     c.close("mass: initial mass n * system.mass", static_cast<double>(cfg.system.n) * cfg.system.mass, mass, mass,
+            verify_tolerance::kSum);
+  else if (cfg.initial.positions != InitialPositions::file)
+    c.close("mass: initial mass, the sum over the sampled radii", summarize_sampled_radii(cfg).mass, mass, mass,
             verify_tolerance::kSum);
   const double e0 = summary.number("kinetic_energy_initial");
   const double p_scale = std::sqrt(2.0 * mass * std::max(e0, energy));
