@@ -439,7 +439,7 @@ TEST(Config, UnknownKeyNamesKeyLineAndAllowedKeys) {
   const std::string m = error_of("[system]\nn = 10\n\nradus = 0.5\n");
   EXPECT_CONTAINS(m, "run.toml:4");
   EXPECT_CONTAINS(m, "unknown key 'system.radus'");
-  EXPECT_CONTAINS(m, "boundary, box_length, dimension, mass, n, radius, volume_fraction");
+  EXPECT_CONTAINS(m, "boundary, box_length, density, dimension, mass, n, radii, radius, radius_distribution, radius_exponent, radius_max, radius_min, radius_sigma, radius_weights, volume_fraction");
 }
 
 TEST(Config, UnknownKeyInEverySectionIsReported) {

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
+#include "ballagg/config/radius_section.hpp"
 #include "ballagg/config/rigid_body_section.hpp"
 #include "ballagg/config/section_reader.hpp"
 #include "ballagg/config/set_override.hpp"
@@ -33,6 +34,7 @@ double rounded_up(double x) {
 // The box and the skin against the radius (value_ranges.hpp). A state file gives its own
 // radii: initial/state_ranges.cpp checks those runs against them.
 void check_length_ratios(const Config& c, SectionReader& sys, SectionReader& eng) {
+  if (polydisperse(c.system) || c.system.density) return check_sampled_radii(c, sys, eng);
   const double radius = c.system.radius, box = resolved_box_length(c);
   if (c.system.box_length && *c.system.box_length > range::kMaxBoxToRadius * radius)
     sys.refuse("box_length", fmt::format("must be at most {:g} times system.radius = {}: positions at a larger box's "
@@ -99,6 +101,7 @@ SystemConfig read_system(SectionReader& sys) {
                              range::kMaxMass));
   if (mass) system_config.mass = *mass;
   if (auto v = sys.choice("boundary", {"walls", "periodic"})) system_config.boundary = static_cast<Boundary>(*v);
+  read_radius_keys(sys, system_config, mass.has_value());
   sys.reject_unknown_keys();
   return system_config;
 }
@@ -247,6 +250,7 @@ Config read_config(const toml::table& root, const std::string& source, const std
   // Rules that involve several keys.
   check_rigid_body_rules(c, rigid_keys, restitution.has_value());
   check_key_combinations(c, source);
+  check_radius_key_combinations(c, sys);
   const bool from_file = c.initial.positions == InitialPositions::file;
   if (!from_file) check_length_ratios(c, sys, eng);
   return c;
@@ -321,8 +325,23 @@ double resolved_box_length(const Config& c) {
   if (c.system.box_length) return *c.system.box_length;
   const double n = static_cast<double>(c.system.n), r = c.system.radius;
   const double vf = c.system.volume_fraction.value_or(kDefaultVolumeFraction);
+  if (polydisperse(c.system)) {
+    const double volume = summarize_sampled_radii(c).volume;
+    return c.system.dimension == 2 ? std::sqrt(volume / vf) : std::cbrt(volume / vf);
+  }
   if (c.system.dimension == 2) return std::sqrt(n * std::numbers::pi * r * r / vf);
   return std::cbrt(n * 4.0 / 3.0 * std::numbers::pi * r * r * r / vf);
+}
+
+double sphere_mass(const SystemConfig& s, double r) {
+  if (s.density) return *s.density * sphere_volume(s.dimension, r);
+  if (!polydisperse(s)) return s.mass;
+  return s.mass * std::pow(r / s.radius, s.dimension);
+}
+
+std::string_view to_string(RadiusLaw l) {
+  static constexpr std::string_view names[] = {"monodisperse", "lognormal", "normal", "uniform", "power-law", "discrete"};
+  return names[static_cast<int>(l)];
 }
 
 std::string_view to_string(InitialPositions p) {

@@ -12,6 +12,7 @@
 
 #include "ballagg/core/random.hpp"
 #include "ballagg/core/tolerances.hpp"
+#include "ballagg/initial/polydisperse_start.hpp"
 #include "ballagg/initial/sphere_layout_check.hpp"
 #include "ballagg/initial/state_ranges.hpp"
 #include "ballagg/io/state_csv.hpp"
@@ -366,11 +367,15 @@ State<D> make_initial_state(const Config& c) {
   if (c.initial.positions == InitialPositions::file) return state_from_spheres<D>(c, read_state_csv<D>(c.initial.file));
   Box<D> box{resolved_box_length(c), c.system.boundary};
   SphereTable<D> table;
-  table.position = c.initial.positions == InitialPositions::lattice ? lattice_positions<D>(c, box)
-                                                                    : random_positions<D>(c, box);
+  if (polydisperse(c.system)) {
+    table = sized_spheres<D>(c, box);
+  } else {
+    table.position = c.initial.positions == InitialPositions::lattice ? lattice_positions<D>(c, box)
+                                                                      : random_positions<D>(c, box);
+    table.radius.assign(c.system.n, c.system.radius);
+    table.mass.assign(c.system.n, sphere_mass(c.system, c.system.radius));
+  }
   table.velocity = random_velocities<D>(c, c.system.n);
-  table.radius.assign(c.system.n, c.system.radius);
-  table.mass.assign(c.system.n, c.system.mass);
   return finish_initial_state(c, assemble_state(box, table), table);
 }
 

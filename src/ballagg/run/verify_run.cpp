@@ -343,8 +343,11 @@ void verify_budgets(const FinalState<D>& s, const Summary& summary, Checker& c) 
     energy += 0.5 * t.mass[i] * t.velocity[i].squaredNorm();
   }
   c.close("mass: mass_total", summary.number("mass_total"), mass, mass, verify_tolerance::kSum);
-  if (s.cfg.initial.positions != InitialPositions::file)
+  if (s.cfg.initial.positions != InitialPositions::file && !polydisperse(s.cfg.system) && !s.cfg.system.density)
     c.close("mass: initial mass n * system.mass", static_cast<double>(s.cfg.system.n) * s.cfg.system.mass, mass, mass,
+            verify_tolerance::kSum);
+  else if (s.cfg.initial.positions != InitialPositions::file)
+    c.close("mass: initial mass, the sum over the sampled radii", summarize_sampled_radii(s.cfg).mass, mass, mass,
             verify_tolerance::kSum);
   const double e0 = summary.number("kinetic_energy_initial");
   const double p_scale = std::sqrt(2.0 * mass * std::max(e0, energy));

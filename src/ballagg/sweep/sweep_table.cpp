@@ -148,6 +148,7 @@ std::string method_of(const Config& c) {
 double volume_fraction_of(const Config& c) {
   if (c.system.volume_fraction) return *c.system.volume_fraction;  // as given, without round-off
   const double l = resolved_box_length(c), r = c.system.radius, n = static_cast<double>(c.system.n);
+  if (polydisperse(c.system)) return summarize_sampled_radii(c).volume / std::pow(l, c.system.dimension);
   const double sphere = c.system.dimension == 2 ? std::numbers::pi * r * r : 4.0 / 3.0 * std::numbers::pi * r * r * r;
   return n * sphere / std::pow(l, c.system.dimension);
 }
