@@ -128,6 +128,9 @@ class SectionReader {
     }
   }
 
+  // Whether the section gives `key` (in the file or with --set).
+  bool given(const std::string& key) { return find(key) != nullptr; }
+
   // Refuses the value given for `key` (a rule that involves other keys too).
   [[noreturn]] void refuse(const std::string& key, const std::string& allowed) { fail(*find(key), key, allowed); }
 
