@@ -3,6 +3,7 @@
 // embedded defaults), checked key by key, with errors that name the file line or the
 // --set argument and what is allowed.
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <optional>
 #include <string>
@@ -38,7 +39,8 @@ struct InitialConfig {
   InitialPositions positions = InitialPositions::lattice;
   InitialVelocities velocities = InitialVelocities::fixed_speed;
   double speed = 1.0;
-  std::string file;
+  std::string file;                  // a state file, or a finished run's directory (resolved to its final.csv)
+  double time = 0.0;                 // the simulated time the initial state is at
   bool zero_momentum = false;
   std::uint64_t seed = 1;
 };
@@ -93,7 +95,13 @@ struct Config {
   OutputConfig output;
   TimeSteppingSettings ts;  // [ts], read always, used when engine.kind = "ts"
   std::string source = "(defaults)";  // where it was read from, for messages
+  std::vector<std::string> set_arguments;  // the --set arguments applied, in order, for messages
 };
+
+// Where the values of `keys` ("section.key") came from, for a message about a rule that
+// involves them: the --set arguments that gave any of them ("--set system.n=400 --set
+// system.volume_fraction=0.6", the last one of each key), or else c.source.
+std::string origin_of(const Config& c, std::initializer_list<std::string_view> keys);
 
 inline constexpr double kDefaultVolumeFraction = 0.2;
 // Default TC time as a fraction of (mean diameter / initial rms speed).

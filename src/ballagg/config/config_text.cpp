@@ -52,6 +52,8 @@ std::vector<Section> entries(const Config& c) {
                    {"velocities", str(to_string(c.initial.velocities))},
                    {"speed", c.initial.speed}}};
   if (!c.initial.file.empty()) initial.second.push_back({"file", c.initial.file});
+  // Written when the clock does not start at 0 only: other runs' files stay as they were.
+  if (c.initial.time != 0.0) initial.second.push_back({"time", c.initial.time});
   initial.second.push_back({"zero_momentum", c.initial.zero_momentum});
   initial.second.push_back({"seed", static_cast<std::int64_t>(c.initial.seed)});
   Section collision{"collision", {{"outcome", str(to_string(c.collision.outcome))}, {"restitution", c.collision.restitution}}};

@@ -153,7 +153,7 @@ class SectionReader {
     }
   }
 
-  // Whether the section gives `key` (which counts as asked for).
+  // Whether the section gives `key` (in the file or with --set; which counts as asked for).
   bool has(const std::string& key) { return find(key) != nullptr; }
 
   // Refuses the value given for `key` (a rule that involves other keys too).

@@ -83,12 +83,14 @@ void check_state_ranges(const SphereTable<D>& t, const Box<D>& box, const Config
   if (box.length > range::kMaxBoxToRadius * r)
     throw InputError(fmt::format("{}: system.box_length = {} is more than {:g} times the smallest radius {} ({}): "
                                  "positions at that box's scale cannot resolve a contact",
-                                 c.source, box.length, range::kMaxBoxToRadius, r, row(t, smallest)));
+                                 origin_of(c, {"system.box_length", "initial.file"}), box.length, range::kMaxBoxToRadius,
+                                 r, row(t, smallest)));
   if (c.engine.skin) {
     const double lo = range::kMinSkinToRadius * r, hi = range::kMaxSkinToBox * box.length;
     if (*c.engine.skin < lo || *c.engine.skin > hi)
       throw InputError(fmt::format("{}: engine.skin = {}: must be from {} to {} ({:g} times the smallest radius, of {}, "
-                                   "to {} box lengths)", c.source, *c.engine.skin, lo, hi, range::kMinSkinToRadius,
+                                   "to {} box lengths)", origin_of(c, {"engine.skin", "initial.file"}),
+                                   *c.engine.skin, lo, hi, range::kMinSkinToRadius,
                                    row(t, smallest), range::kMaxSkinToBox));
   }
 }
@@ -105,7 +107,10 @@ void check_resolved_ranges(const Config& c, const State<D>& s) {
   if (std::min(*c.engine.skin, room) >= lo) return;
   throw InputError(fmt::format("{}: system.box_length = {}: a periodic box must be longer than 4 times the largest "
                                "radius ({}) by enough for a neighbour-list skin of {:g} times the smallest radius: at "
-                               "least {}", c.source, s.box.length, s.max_radius(), range::kMinSkinToRadius,
+                               "least {}",
+                               origin_of(c, {"system.box_length", "system.volume_fraction", "system.n", "system.radius",
+                                             "initial.file", "engine.skin"}),
+                               s.box.length, s.max_radius(), range::kMinSkinToRadius,
                                4.0 * s.max_radius() + 3.0 * lo / 0.99 * (1.0 + 1e-9)));
 }
 

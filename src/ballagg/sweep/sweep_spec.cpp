@@ -250,15 +250,24 @@ std::vector<SweepRun> sweep_runs(const SweepSpec& spec, const std::vector<SweepP
       point_config = load_config(spec.base, overrides);
     } catch (const InputError& e) {
       // "--set system.n: ..." -> "SWEEP:LINE: ..." for the setting at fault.
-      const std::string message = e.what();
+      std::string message = e.what();
       for (const SweepSetting* s : settings) {
         const std::string prefix = "--set " + s->key;
         if (message.rfind(prefix, 0) == 0) {
           std::string rest = message.substr(prefix.size());
           if (rest.rfind("=" + s->value, 0) == 0) rest = rest.substr(1 + s->value.size());
-          if (rest.rfind(": ", 0) == 0) rest = rest.substr(2);
-          r.fail(s->line, rest);
+          if (rest.rfind(": ", 0) == 0) r.fail(s->line, rest.substr(2));
         }
+      }
+      // A rule between several settings: "--set a=1 --set b=2: ..." -> "grid point ...: ...".
+      for (bool stripped = true; stripped;) {
+        stripped = false;
+        for (const std::string& o : overrides)
+          for (const char* end : {" ", ": "})
+            if (message.rfind("--set " + o + end, 0) == 0) {
+              message = message.substr(6 + o.size() + std::string_view(end).size());
+              stripped = true;
+            }
       }
       r.fail(0, fmt::format("grid point {} ({}): {}", p.index, described.empty() ? "the base" : described, message));
     }
