@@ -217,6 +217,61 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   return j.dump(2) + "\n";
 }
 
+// What a checkpoint of this run holds, made when the checkpointer asks (the state and
+// the recorders as they are then).
+template <int D>
+auto checkpoint_maker(const Config& config, std::string_view engine, double earlier_seconds, const Totals<D>& initial,
+                      const TimeseriesRecorder<D>& timeseries, SnapshotRecorder<D>* snapshots) {
+  return [config_toml = to_toml_text(config), engine_name = std::string(engine), earlier_seconds, &initial, &timeseries,
+          snapshots](const State<D>& s, const std::string& engine_state, double seconds) {
+    Checkpoint c;
+    c.program_version = kVersion;
+    c.dimension = D;
+    c.engine = engine_name;
+    c.config_toml = config_toml;
+    c.wall_seconds = earlier_seconds + seconds;
+    c.totals = initial.encode();
+    c.state = StateCodec<D>::encode(s);
+    c.engine_state = engine_state;
+    c.timeseries = timeseries.save();
+    if (snapshots) c.snapshots = snapshots->save();
+    return c;
+  };
+}
+
+// A run stopped by a signal without a checkpoint of that moment: its directory goes unless
+// an earlier checkpoint can continue it; the message says which.
+[[noreturn]] void throw_interrupted(const std::string& dir, bool created, double time) {
+  std::error_code ec;
+  const bool resumable = std::filesystem::exists(std::filesystem::path(dir) / kCheckpointFile, ec);
+  if (created && !resumable) std::filesystem::remove(dir, ec);
+  throw RunInterrupted(stop_signal(), fmt::format("interrupted by {} at t = {}: {}", signal_name(stop_signal()), time,
+                                                  resumable ? fmt::format("continue from its last checkpoint with: "
+                                                                          "ballagg run --resume {}", dir)
+                                                            : std::string("the run's files were not written")));
+}
+
+// The files of a finished run, summary.json last; its checkpoint goes (nothing to resume).
+template <int D>
+void write_run_files(const std::string& dir, const Config& config, std::string_view engine, const Totals<D>& initial,
+                     const State<D>& state, const RunResult& result, const std::string& timeseries_csv) {
+  const std::string final_csv = state_csv_text(state);
+  write_file_atomically(dir, "final.csv", final_csv);
+  if (config.output.xyz) write_file_atomically(dir, "final.xyz", xyz_frame_text(state));
+  write_file_atomically(dir, "timeseries.csv", timeseries_csv);
+  if (config.engine.kind == EngineKind::rigid_body) {
+    // Richardson's end-of-run statistics: the files of `ballagg analyze`, from final.csv
+    // as that command reads it, so that both give the same bytes.
+    const std::string final_path = (std::filesystem::path(dir) / "final.csv").string();
+    write_analysis(Box<D>{resolved_box_length(config), config.system.boundary},
+                   parse_state_csv<D>(final_csv, final_path), final_path, dir);
+  }
+  write_file_atomically(dir, "config.toml", to_toml_text(config));
+  write_file_atomically(dir, "summary.json", summary_text(config, engine, initial, state, result));
+  std::error_code ec;
+  std::filesystem::remove(std::filesystem::path(dir) / kCheckpointFile, ec);
+}
+
 // A fresh run (resume = null), or the continuation of one from its checkpoint (given is
 // then the checkpoint's resolved configuration and options.out_dir its directory).
 template <int D>
@@ -267,23 +322,9 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
 
   std::optional<Checkpointer<D>> checkpointer;
   if (engine->supports_checkpoints()) {
-    const std::string config_toml = to_toml_text(config);
-    const std::string engine_name(engine->name());
     checkpointer.emplace(dir, config.output.checkpoint_every, interrupts.has_value(),
-                         [&, config_toml, engine_name](const State<D>& s, const std::string& engine_state, double seconds) {
-      Checkpoint c;
-      c.program_version = kVersion;
-      c.dimension = D;
-      c.engine = engine_name;
-      c.config_toml = config_toml;
-      c.wall_seconds = earlier_seconds + seconds;
-      c.totals = initial.encode();
-      c.state = StateCodec<D>::encode(s);
-      c.engine_state = engine_state;
-      c.timeseries = timeseries.save();
-      if (snapshots) c.snapshots = snapshots->save();
-      return c;
-    }, &guard);
+                         checkpoint_maker<D>(config, engine->name(), earlier_seconds, initial, timeseries, snapshots.get()),
+                         &guard);
     observers.add(&*checkpointer);
   }
   RunResult result;
@@ -302,13 +343,7 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
     // A signal, and no checkpoint of it (a run inside a sweep): nothing of this run is
     // written; its trajectories' temporary files go unless an earlier checkpoint refers to them.
     snapshots.reset();
-    std::error_code ec;
-    const bool resumable = std::filesystem::exists(std::filesystem::path(dir) / kCheckpointFile, ec);
-    if (created && !resumable) std::filesystem::remove(dir, ec);
-    throw RunInterrupted(stop_signal(), fmt::format("interrupted by {} at t = {}: {}", signal_name(stop_signal()), state.time,
-                                                    resumable ? fmt::format("continue from its last checkpoint with: "
-                                                                            "ballagg run --resume {}", dir)
-                                                              : std::string("the run's files were not written")));
+    throw_interrupted(dir, created, state.time);
   }
   result.wall_seconds += earlier_seconds;
   if (result.reason == StopReason::output_limit && !options.quiet)
@@ -318,21 +353,7 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
                "output.snapshot_every, or a stop.time\n",
                state.time, TimeseriesRecorder<D>::kMaxRows, SnapshotRecorder<D>::kMaxFrames + 2);
 
-  const std::string final_csv = state_csv_text(state);
-  write_file_atomically(dir, "final.csv", final_csv);
-  if (config.output.xyz) write_file_atomically(dir, "final.xyz", xyz_frame_text(state));
-  write_file_atomically(dir, "timeseries.csv", timeseries.csv());
-  if (rigid) {
-    // Richardson's end-of-run statistics: the files of `ballagg analyze`, from final.csv
-    // as that command reads it, so that both give the same bytes.
-    const std::string final_path = (std::filesystem::path(dir) / "final.csv").string();
-    write_analysis(Box<D>{resolved_box_length(config), config.system.boundary},
-                   parse_state_csv<D>(final_csv, final_path), final_path, dir);
-  }
-  write_file_atomically(dir, "config.toml", to_toml_text(config));
-  write_file_atomically(dir, "summary.json", summary_text(config, engine->name(), initial, state, result));
-  std::error_code ec;
-  std::filesystem::remove(std::filesystem::path(dir) / kCheckpointFile, ec);  // finished: nothing to resume
+  write_run_files(dir, config, engine->name(), initial, state, result, timeseries.csv());
   return dir;
 }
 
