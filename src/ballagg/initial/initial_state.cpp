@@ -13,6 +13,7 @@
 #include "ballagg/core/random.hpp"
 #include "ballagg/core/tolerances.hpp"
 #include "ballagg/initial/polydisperse_start.hpp"
+#include "ballagg/initial/space_filling_curve.hpp"
 #include "ballagg/initial/sphere_layout_check.hpp"
 #include "ballagg/initial/state_ranges.hpp"
 #include "ballagg/io/state_csv.hpp"
@@ -42,32 +43,12 @@ std::string where(const auto& table, int sphere) {
   return fmt::format("{}:{}", table.source, table.line[sphere]);
 }
 
-// Interleaves the bits of cell coordinates (Z-order): cells close in space get close
-// numbers, so spheres numbered in this order are close in memory too.
-template <int D>
-std::uint64_t morton_key(const std::array<std::uint32_t, D>& cell) {
-  std::uint64_t key = 0;
-  for (int bit = 0; bit < 64 / D; ++bit)
-    for (int a = 0; a < D; ++a) key |= static_cast<std::uint64_t>((cell[a] >> bit) & 1u) << (bit * D + a);
-  return key;
-}
-
-// Generated spheres (lattice or random) are numbered along a Z-order curve rather than in
-// the order they were placed: their numbering carries no meaning, and neighbours that sit
-// close in memory make the engine much less bound by cache misses (docs/performance.md).
+// Generated spheres are numbered along a Z-order curve (space_filling_curve.hpp).
 template <int D>
 void number_along_space_filling_curve(std::vector<Vec<D>>& x, const Box<D>& box) {
-  const auto side = static_cast<std::uint32_t>(std::max(1.0, std::ceil(std::pow(static_cast<double>(x.size()), 1.0 / D))));
-  std::vector<std::pair<std::uint64_t, std::size_t>> order(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    std::array<std::uint32_t, D> cell;
-    for (int a = 0; a < D; ++a)
-      cell[a] = std::min(side - 1, static_cast<std::uint32_t>(std::max(0.0, x[i][a] / box.length * side)));
-    order[i] = {morton_key<D>(cell), i};
-  }
-  std::sort(order.begin(), order.end());
-  std::vector<Vec<D>> sorted(x.size());
-  for (std::size_t k = 0; k < x.size(); ++k) sorted[k] = x[order[k].second];
+  std::vector<Vec<D>> sorted;
+  sorted.reserve(x.size());
+  for (std::size_t i : z_order<D>(x, box)) sorted.push_back(x[i]);
   x.swap(sorted);
 }
 
