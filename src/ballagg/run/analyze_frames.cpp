@@ -51,11 +51,12 @@ FrameAnalysisTables analyze_trajectory(const std::string& trajectory, const std:
 
 std::vector<int> frames_nearest(const std::vector<double>& times, const std::vector<double>& wanted) {
   std::vector<int> chosen;
+  if (times.empty()) return chosen;  // no frame is nearest to anything (and end() - 1 would not exist)
   for (double t : wanted) {
     const auto after = std::lower_bound(times.begin(), times.end(), t);
     auto best = after;
     if (after == times.end() || (after != times.begin() && t - *(after - 1) <= *after - t)) best = after - 1;
-    if (best != times.end() && !times.empty()) chosen.push_back(static_cast<int>(best - times.begin()));
+    chosen.push_back(static_cast<int>(best - times.begin()));
   }
   std::sort(chosen.begin(), chosen.end());
   chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
