@@ -8,7 +8,7 @@ JOBS ?= $(shell nproc)
 CMAKE_FLAGS ?= -DCMAKE_BUILD_TYPE=Release
 WERROR ?= OFF
 
-.PHONY: all setup configure build python test demo bench clean sanitize fuzz sanitize-configure
+.PHONY: all setup configure build python install test demo bench clean sanitize fuzz sanitize-configure
 
 all: build
 
@@ -25,6 +25,11 @@ build: configure
 # The Python module alone (build/python); `make build` and `make test` build it too.
 python: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS) --target ballagg_python
+
+# The binary, the plotting script and the Python module under PREFIX (default /usr/local,
+# where Debian's /usr/bin/python3 finds the module: `sudo make install`), docs/python.md.
+install: build
+	cmake --install $(BUILD_DIR) $(if $(PREFIX),--prefix $(PREFIX))
 
 test: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
@@ -52,12 +57,12 @@ sanitize-configure: setup
 	  "-DCMAKE_C_FLAGS=$(SANITIZE_FLAGS)" "-DCMAKE_CXX_FLAGS=$(SANITIZE_FLAGS)" \
 	  "-DCMAKE_EXE_LINKER_FLAGS=$(SANITIZE_FLAGS)" "-DCMAKE_SHARED_LINKER_FLAGS=$(SANITIZE_FLAGS)" > /dev/null
 
-# The Python module's test is left out: an ASan-built extension needs libasan preloaded
-# into /usr/bin/python3.
+# The Python module's tests are left out: an ASan-built extension needs libasan preloaded
+# into /usr/bin/python3 (and the sanitizer build does not build the module it would install).
 sanitize: sanitize-configure
 	@cmake --build $(SANITIZE_DIR) -j $(JOBS) --target ballagg_tests ballagg
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 LSAN_OPTIONS=$(SANITIZE_LSAN) \
-	  ctest --test-dir $(SANITIZE_DIR) --output-on-failure -j $(JOBS) -E '^PythonModule(AsRoot)?$$' -R '$(SANITIZE_TESTS)'
+	  ctest --test-dir $(SANITIZE_DIR) --output-on-failure -j $(JOBS) -E '^PythonModule(AsRoot|Install)?$$' -R '$(SANITIZE_TESTS)'
 
 fuzz: sanitize-configure
 	@cmake --build $(SANITIZE_DIR) -j $(JOBS) --target fuzz_targets

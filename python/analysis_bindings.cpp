@@ -1,6 +1,9 @@
 // Every function of src/ballagg/analysis/ on numpy arrays (docs/python.md, docs/analysis.md
 // for the definitions): positions are (n, D) arrays, D = 2 or 3.
+#include <cmath>
 #include <limits>
+
+#include <fmt/format.h>
 
 #include "analysis_convert.hpp"
 #include "bindings.hpp"
@@ -73,70 +76,6 @@ py::dict mass_radius_dict(const MassRadius<D>& m) {
 }
 
 template <int D>
-py::dict aggregate_analysis(const Box<D>& box, const SphereTable<D>& spheres) {
-  const AggregateAnalysis<D> a = analyze_aggregates(box, spheres);
-  py::dict d;
-  d["dimension"] = D;
-  d["n_spheres"] = a.n_spheres;
-  d["length_unit"] = a.length_unit;
-  d["contacts"] = a.contacts;
-  d["box_counting"] = box_counting_dict(a.box_counting);
-  d["pair_distribution"] = pair_distribution_dict(a.pair_distribution);
-  d["largest"] = a.largest;
-  d["largest_box_counting"] = box_counting_dict(a.largest_box_counting);
-  d["largest_mass_radius"] = mass_radius_dict<D>(a.largest_mass_radius);
-  // Per cluster: columns of equal length (in order of each cluster's first sphere).
-  const std::size_t m = a.clusters.size();
-  std::vector<std::int64_t> size(m);
-  std::vector<double> mass(m), aspect(m), rg(m), r_max(m), density(m), contacts(m), box_dim(m), box_err(m), mr_dim(m),
-      mr_err(m);
-  std::vector<std::uint8_t> percolating(m);
-  std::vector<Vec<D>> com(m), orientation(m);
-  py::list box_flaw, mr_flaw;
-  for (std::size_t k = 0; k < m; ++k) {
-    const ClusterSummary<D>& c = a.clusters[k];
-    size[k] = c.size, mass[k] = c.mass, com[k] = c.centre_of_mass, aspect[k] = c.shape.aspect_ratio;
-    rg[k] = c.shape.radius_of_gyration, orientation[k] = c.shape.orientation(), r_max[k] = c.r_max;
-    density[k] = c.density, contacts[k] = c.contacts, box_dim[k] = c.box_dimension, box_err[k] = c.box_dimension_error;
-    mr_dim[k] = c.mass_radius_dimension, mr_err[k] = c.mass_radius_dimension_error, percolating[k] = c.percolating;
-    box_flaw.append(flaw_code(c.box_dimension_flaw));
-    mr_flaw.append(flaw_code(c.mass_radius_dimension_flaw));
-  }
-  py::dict clusters;
-  clusters["size"] = from_vector(size);
-  clusters["mass"] = from_vector(mass);
-  clusters["centre_of_mass"] = from_points<D>(com);
-  clusters["aspect_ratio"] = from_vector(aspect);
-  clusters["orientation"] = from_points<D>(orientation);
-  clusters["radius_of_gyration"] = from_vector(rg);
-  clusters["r_max"] = from_vector(r_max);
-  clusters["density"] = from_vector(density);
-  clusters["contacts"] = from_vector(contacts);
-  clusters["box_dimension"] = from_vector(box_dim);
-  clusters["box_dimension_error"] = from_vector(box_err);
-  clusters["mass_radius_dimension"] = from_vector(mr_dim);
-  clusters["mass_radius_dimension_error"] = from_vector(mr_err);
-  clusters["box_dimension_flaw"] = box_flaw;
-  clusters["mass_radius_dimension_flaw"] = mr_flaw;
-  clusters["percolating"] = from_vector(percolating).attr("astype")("bool");
-  d["clusters"] = clusters;
-  std::vector<std::int64_t> bin_size, bin_count;
-  for (const MassSpectrumBin& b : a.mass_spectrum) bin_size.push_back(b.size), bin_count.push_back(b.clusters);
-  py::dict spectrum;
-  spectrum["size"] = from_vector(bin_size);
-  spectrum["clusters"] = from_vector(bin_count);
-  d["mass_spectrum"] = spectrum;
-  py::dict population;
-  population["clusters"] = a.population.clusters;
-  population["r_max"] = fit_object(a.population.r_max);
-  population["density"] = fit_object(a.population.density);
-  population["dimension"] = a.population.dimension;
-  population["dimension_flaw"] = flaw_code(a.population.dimension_flaw);
-  d["population"] = population;
-  return d;
-}
-
-template <int D>
 SphereTable<D> table_of(const Frame<D>& f, const Particles<D>& p) {
   SphereTable<D> t;
   for (int i = 0; i < f.size(); ++i) t.position.push_back(f.position[i]);
@@ -186,70 +125,11 @@ std::vector<std::int32_t> partition_labels(const IntArray& labels, std::size_t n
 
 }  // namespace
 
-void bind_analysis(py::module_& m) {
-  m.def("analyze", [](const DoubleArray& positions, const DoubleArray& radii, const IntArray& cluster_ids,
-                      double box_length, bool periodic, const py::object& masses, const py::object& velocities) {
-    return by_dimension(dimension_of(positions), [&]<int D>() {
-      SphereTable<D> t;
-      t.position = to_points<D>(positions);
-      const std::size_t n = t.position.size();
-      t.radius = to_vector<double>(radii, n, "radii");
-      t.mass = masses.is_none() ? std::vector<double>(n, 1.0) : to_vector<double>(masses.cast<DoubleArray>(), n, "masses");
-      t.velocity = velocities.is_none() ? std::vector<Vec<D>>(n, Vec<D>::Zero()) : to_points<D>(velocities.cast<DoubleArray>(), "velocities");
-      t.cluster = to_vector<std::int64_t>(cluster_ids, n, "cluster_ids");
-      t.line.resize(n);
-      t.source = "(python)";
-      return aggregate_analysis<D>(make_box<D>(box_length, periodic), t);
-    });
-  }, py::arg("positions"), py::arg("radii"), py::arg("cluster_ids"), py::arg("box_length"), py::arg("periodic") = false,
-     py::arg("masses") = py::none(), py::arg("velocities") = py::none(),
-     "Every indicator of `ballagg analyze` (docs/analysis.md) for a set of spheres: a dict.");
+namespace {
 
-  m.def("gyration_shape", [](const DoubleArray& points) {
-    return by_dimension(dimension_of(points, "points"), [&]<int D>() -> py::object { return gyration_dict<D>(gyration_shape<D>(to_points<D>(points, "points"))); });
-  }, py::arg("points"), "Gyration tensor of points: aspect ratio A_r (4.3), orientation D (4.4), R_g.");
-
-  m.def("box_counting", [](const DoubleArray& points, double box_length, bool periodic, double length_unit) {
-    return by_dimension(dimension_of(points, "points"), [&]<int D>() -> py::object {
-      return box_counting_dict(box_counting<D>(make_box<D>(box_length, periodic), to_points<D>(points, "points"), length_unit));
-    });
-  }, py::arg("points"), py::arg("box_length"), py::arg("periodic") = false, py::arg("length_unit"),
-     "Box-counting dimension (4.7) of points in the box; length_unit is the sphere radius R.");
-
-  m.def("count_contacts", [](const DoubleArray& positions, const DoubleArray& radii, const IntArray& cluster_ids,
-                             double box_length, bool periodic, double alpha_r) {
-    return by_dimension(dimension_of(positions), [&]<int D>() -> py::object {
-      const std::vector<Vec<D>> x = to_points<D>(positions);
-      const ContactCounts c = count_contacts<D>(make_box<D>(box_length, periodic), x,
-                                                to_vector<double>(radii, x.size(), "radii"), labels_of(cluster_ids, x.size()), alpha_r);
-      py::dict d;
-      d["all"] = from_vector(c.all);
-      d["same_cluster"] = from_vector(c.same_cluster);
-      std::int64_t sum = 0;
-      for (std::int32_t k : c.all) sum += k;
-      d["relative"] = relative_contacts<D>(sum, static_cast<std::int64_t>(x.size()));  // N_c (4.5)
-      return d;
-    });
-  }, py::arg("positions"), py::arg("radii"), py::arg("cluster_ids"), py::arg("box_length"), py::arg("periodic") = false,
-     py::arg("alpha_r") = kContactFactor, "Contacts per sphere within alpha_r R (4.5) and N_c.");
-
-  m.def("relative_contacts", [](std::int64_t contact_sum, std::int64_t n_spheres, int dimension) {
-    return dimension == 2 ? relative_contacts<2>(contact_sum, n_spheres) : relative_contacts<3>(contact_sum, n_spheres);
-  }, py::arg("contact_sum"), py::arg("n_spheres"), py::arg("dimension"), "N_c of (4.5): contacts / (N N_max).");
-
-  m.def("pair_distribution", [](const DoubleArray& positions, double mean_radius, const IntArray& cluster_ids,
-                                int cluster, double box_length, bool periodic, double cluster_extent) {
-    return by_dimension(dimension_of(positions), [&]<int D>() -> py::object {
-      const std::vector<Vec<D>> x = to_points<D>(positions);
-      return pair_distribution_dict(pair_distribution<D>(make_box<D>(box_length, periodic), x, mean_radius,
-                                                         partition_labels(cluster_ids, x.size()), cluster,
-                                                         cluster_extent));
-    });
-  }, py::arg("positions"), py::arg("mean_radius"), py::arg("cluster_ids"), py::arg("cluster"), py::arg("box_length"),
-     py::arg("periodic") = false, py::arg("cluster_extent") = std::numeric_limits<double>::infinity(),
-     "P(r) (4.6) of all spheres and of one cluster (its index in order of first sphere); the cluster's fit "
-     "stops at cluster_extent (an upper bound on its diameter).");
-
+// The functions of one cluster and of cluster labels: mass-radius, partitions, the mass
+// spectrum, unwrapping, and the line fit they use.
+void bind_cluster_functions(py::module_& m) {
   m.def("mass_radius", [](const IntArray& members, const DoubleArray& positions, const DoubleArray& radii,
                           const DoubleArray& masses, double length_unit, double radius_of_gyration) {
     return by_dimension(dimension_of(positions), [&]<int D>() -> py::object {
@@ -320,10 +200,87 @@ void bind_analysis(py::module_& m) {
         py::arg("x"), py::arg("y"), "Least-squares line y = slope x + intercept with standard errors (None if degenerate).");
 }
 
+}  // namespace
+
+void bind_analysis(py::module_& m) {
+  bind_cluster_functions(m);
+  m.def("analyze", [](const DoubleArray& positions, const DoubleArray& radii, const IntArray& cluster_ids,
+                      double box_length, bool periodic, const py::object& masses, const py::object& velocities,
+                      bool tables) {
+    return by_dimension(dimension_of(positions), [&]<int D>() {
+      SphereTable<D> t;
+      t.position = to_points<D>(positions);
+      const std::size_t n = t.position.size();
+      t.radius = to_vector<double>(radii, n, "radii");
+      t.mass = masses.is_none() ? std::vector<double>(n, 1.0) : to_vector<double>(masses.cast<DoubleArray>(), n, "masses");
+      t.velocity = velocities.is_none() ? std::vector<Vec<D>>(n, Vec<D>::Zero()) : to_points<D>(velocities.cast<DoubleArray>(), "velocities");
+      t.cluster = to_vector<std::int64_t>(cluster_ids, n, "cluster_ids");
+      t.line.resize(n);
+      t.source = "(python)";
+      return aggregate_analysis<D>(make_box<D>(box_length, periodic), t, py::none(), tables);
+    });
+  }, py::arg("positions"), py::arg("radii"), py::arg("cluster_ids"), py::arg("box_length"), py::arg("periodic") = false,
+     py::arg("masses") = py::none(), py::arg("velocities") = py::none(), py::arg("tables") = false,
+     "Every indicator of `ballagg analyze` (docs/analysis.md) for a set of spheres: the dict of analysis.json; "
+     "tables=True: (that dict, the CSV tables as {name: {column: array}}).");
+
+  m.def("gyration_shape", [](const DoubleArray& points) {
+    return by_dimension(dimension_of(points, "points"), [&]<int D>() -> py::object { return gyration_dict<D>(gyration_shape<D>(to_points<D>(points, "points"))); });
+  }, py::arg("points"), "Gyration tensor of points: aspect ratio A_r (4.3), orientation D (4.4), R_g.");
+
+  m.def("box_counting", [](const DoubleArray& points, double box_length, bool periodic, std::optional<double> length_unit,
+                           const py::object& radii) {
+    return by_dimension(dimension_of(points, "points"), [&]<int D>() -> py::object {
+      const std::vector<Vec<D>> x = to_points<D>(points, "points");
+      const double unit = length_unit ? *length_unit
+                          : radii.is_none() ? SystemConfig{}.radius
+                                            : length_unit_of(to_vector<double>(radii.cast<DoubleArray>(), x.size(), "radii"));
+      if (!(unit > 0.0) || !std::isfinite(unit)) throw py::value_error(fmt::format("length_unit = {}: must be a number > 0", unit));
+      return box_counting_dict(box_counting<D>(make_box<D>(box_length, periodic), x, unit));
+    });
+  }, py::arg("points"), py::arg("box_length"), py::arg("periodic") = false, py::arg("length_unit") = py::none(),
+     py::arg("radii") = py::none(),
+     "Box-counting dimension (4.7) of points in the box, fitted over 3 length_unit <= eps <= L/2. length_unit is the "
+     "sphere radius R, as in `ballagg analyze`: by default R of `radii` (their common value, else their mean), or "
+     "without radii the default system.radius (0.2).");
+
+  m.def("count_contacts", [](const DoubleArray& positions, const DoubleArray& radii, const IntArray& cluster_ids,
+                             double box_length, bool periodic, double alpha_r) {
+    return by_dimension(dimension_of(positions), [&]<int D>() -> py::object {
+      const std::vector<Vec<D>> x = to_points<D>(positions);
+      const ContactCounts c = count_contacts<D>(make_box<D>(box_length, periodic), x,
+                                                to_vector<double>(radii, x.size(), "radii"), labels_of(cluster_ids, x.size()), alpha_r);
+      py::dict d;
+      d["all"] = from_vector(c.all);
+      d["same_cluster"] = from_vector(c.same_cluster);
+      std::int64_t sum = 0;
+      for (std::int32_t k : c.all) sum += k;
+      d["relative"] = relative_contacts<D>(sum, static_cast<std::int64_t>(x.size()));  // N_c (4.5)
+      return d;
+    });
+  }, py::arg("positions"), py::arg("radii"), py::arg("cluster_ids"), py::arg("box_length"), py::arg("periodic") = false,
+     py::arg("alpha_r") = kContactFactor, "Contacts per sphere within alpha_r R (4.5) and N_c.");
+
+  m.def("relative_contacts", [](std::int64_t contact_sum, std::int64_t n_spheres, int dimension) {
+    return dimension == 2 ? relative_contacts<2>(contact_sum, n_spheres) : relative_contacts<3>(contact_sum, n_spheres);
+  }, py::arg("contact_sum"), py::arg("n_spheres"), py::arg("dimension"), "N_c of (4.5): contacts / (N N_max).");
+
+  m.def("pair_distribution", [](const DoubleArray& positions, double mean_radius, const IntArray& cluster_ids,
+                                int cluster, double box_length, bool periodic, double cluster_extent) {
+    return by_dimension(dimension_of(positions), [&]<int D>() -> py::object {
+      const std::vector<Vec<D>> x = to_points<D>(positions);
+      return pair_distribution_dict(pair_distribution<D>(make_box<D>(box_length, periodic), x, mean_radius,
+                                                         partition_labels(cluster_ids, x.size()), cluster,
+                                                         cluster_extent));
+    });
+  }, py::arg("positions"), py::arg("mean_radius"), py::arg("cluster_ids"), py::arg("cluster"), py::arg("box_length"),
+     py::arg("periodic") = false, py::arg("cluster_extent") = std::numeric_limits<double>::infinity(),
+     "P(r) (4.6) of all spheres and of one cluster (its index in order of first sphere); the cluster's fit "
+     "stops at cluster_extent (an upper bound on its diameter).");
+}
+
 template py::dict gyration_dict<2>(const GyrationShape<2>&);
 template py::dict gyration_dict<3>(const GyrationShape<3>&);
-template py::dict aggregate_analysis<2>(const Box<2>&, const SphereTable<2>&);
-template py::dict aggregate_analysis<3>(const Box<3>&, const SphereTable<3>&);
 template SphereTable<2> table_of<2>(const Frame<2>&, const Particles<2>&);
 template SphereTable<3> table_of<3>(const Frame<3>&, const Particles<3>&);
 template py::dict frame_dict<2>(const Frame<2>&, const Particles<2>&);

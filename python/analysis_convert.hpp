@@ -13,9 +13,13 @@ py::dict box_counting_dict(const BoxCounting& b);
 py::dict pair_distribution_dict(const PairDistribution& p);
 template <int D>
 py::dict mass_radius_dict(const MassRadius<D>& m);
-// analyze_aggregates of the spheres (docs/analysis.md), every field.
+// analyze_aggregates of the spheres (docs/analysis.md) as analysis.json of `ballagg
+// analyze` has it (the same text, read by Python's json: NaN is None), `state_file` its
+// "state_file" (None: the spheres come from Python). With `tables`, the tuple (that
+// dict, the CSV tables of `ballagg analyze` as {"clusters": {column: array}, ...}).
 template <int D>
-py::dict aggregate_analysis(const Box<D>& box, const SphereTable<D>& spheres);
+py::object aggregate_analysis(const Box<D>& box, const SphereTable<D>& spheres, const py::object& state_file,
+                              bool tables);
 
 // A frame (positions folded, image, velocities, cluster labels 0, 1, ...) as a table.
 template <int D>

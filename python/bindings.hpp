@@ -12,6 +12,7 @@ namespace py = pybind11;
 Config config_from(const py::object& source, const py::object& overrides);
 
 void bind_config(py::module_& m);
+void bind_state(py::module_& m);
 void bind_simulation(py::module_& m);
 void bind_analysis(py::module_& m);
 void bind_run_directory(py::module_& m);

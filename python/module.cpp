@@ -14,6 +14,7 @@ PYBIND11_MODULE(ballagg, m) {
   // An output file that cannot be written (a full disk, a device or link at its path).
   py::register_exception<ballagg::OutputError>(m, "OutputError", PyExc_OSError);
   ballagg::python::bind_config(m);
+  ballagg::python::bind_state(m);
   ballagg::python::bind_simulation(m);
   ballagg::python::bind_analysis(m);
   ballagg::python::bind_run_directory(m);

@@ -37,7 +37,7 @@ struct LoadedRun {
   RunDirectory run;
   py::object summary, timeseries;
   py::dict final_state;
-  std::function<py::dict()> analyze;
+  std::function<py::object(bool)> analyze;
   std::function<int()> n_frames;
   std::function<py::dict(int)> frame;
 };
@@ -50,7 +50,9 @@ void load_state(LoadedRun& r) {
   read_final_state<D>(r.run, f, p, &spins);
   r.final_state = frame_dict<D>(f, p);
   if (!spins.empty()) r.final_state["angular_velocities"] = from_spins<D>(spins);  // rigid-body runs
-  r.analyze = [f, p] { return aggregate_analysis<D>(p.box, table_of<D>(f, p)); };
+  r.analyze = [f, p, file = r.run.path("final.csv")](bool tables) {
+    return aggregate_analysis<D>(p.box, table_of<D>(f, p), py::str(file), tables);
+  };
   const std::string h5md = r.run.path("trajectory.h5md");
   std::error_code ec;
   if (std::filesystem::exists(h5md, ec)) {
@@ -77,7 +79,9 @@ void bind_run_directory(py::module_& m) {
       .def_readonly("timeseries", &LoadedRun::timeseries, "timeseries.csv: column name -> numpy array")
       .def_readonly("final", &LoadedRun::final_state,
                     "The final state: positions, unwrapped_positions, velocities, radii, masses, cluster_ids, ...")
-      .def("analyze", [](const LoadedRun& r) { return r.analyze(); }, "Every indicator of `ballagg analyze` (a dict)")
+      .def("analyze", [](const LoadedRun& r, bool tables) { return r.analyze(tables); }, py::arg("tables") = false,
+           "What `ballagg analyze` writes for final.csv: analysis.json as a dict; tables=True: (that dict, the CSV "
+           "tables as {name: {column: array}})")
       .def_property_readonly("n_frames", [](const LoadedRun& r) { return r.n_frames(); }, "Frames in trajectory.h5md")
       .def("frame", [](const LoadedRun& r, int k) { return r.frame(k); }, py::arg("k"),
            "Trajectory frame k (negative: from the end) as a dict like `final`");

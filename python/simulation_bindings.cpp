@@ -1,6 +1,6 @@
-// ballagg.Simulation: a configuration's initial state and engine, run from Python with a
-// callback every k events (time steps for ts), the state read as numpy arrays; and
-// ballagg.run / resume / verify, the command line's run, run --resume and verify.
+// ballagg.Simulation bound to Python: run with a callback (every k events, or every dt of
+// simulated time) and output files, the state read as numpy arrays; and ballagg.run /
+// resume / verify, the command line's run, run --resume and verify.
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
@@ -9,6 +9,8 @@
 
 #include "analysis_convert.hpp"
 #include "bindings.hpp"
+#include "simulation.hpp"
+#include "state_from_arrays.hpp"
 
 #include "ballagg/analysis/overlap.hpp"
 #include "ballagg/initial/initial_state.hpp"
@@ -20,126 +22,49 @@
 namespace ballagg::python {
 namespace {
 
-// The callback returned False: the run ends after the event it was called for.
-struct StoppedByCallback {};
-
 template <int D>
-class Simulation;
-
-template <int D>
-class PythonObserver final : public RunObserver<D> {
- public:
-  PythonObserver(py::object callback, std::int64_t every, py::object self)
-      : callback_(std::move(callback)), every_(every), self_(std::move(self)) {}
-  void after_event(const State<D>&, const EventRecord&, const EngineCounters& c) override {
-    last_ = c;
-    if (!callback_.is_none() && ++calls_ % every_ == 0) {
-      const py::object r = callback_(self_);
-      if (py::isinstance<py::bool_>(r) && !r.cast<bool>()) throw StoppedByCallback{};
-    }
-    // Ctrl-C (KeyboardInterrupt) after any event: a flag test, nanoseconds.
-    if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+py::dict run_simulation_from_python(py::object self, const py::object& callback, std::optional<std::int64_t> every,
+                                    std::optional<std::int64_t> clusters, std::optional<double> time,
+                                    std::optional<double> wall_seconds, std::optional<double> every_time,
+                                    const py::object& out, bool overwrite) {
+  Simulation<D>& sim = self.cast<Simulation<D>&>();
+  if (sim.running())  // before anything is checked or opened
+    return sim.run(self, callback, {}, stop_criteria(sim.config()), {});
+  CallbackSchedule when;
+  if (every && every_time) throw py::value_error("give every (events) or every_time (simulated time), not both");
+  if (every && *every < 1) throw py::value_error(fmt::format("every = {}: must be an integer >= 1", *every));
+  if (every) when.events = *every;
+  if (every_time) {
+    check_stop_duration(*every_time, "Simulation.run argument every_time");
+    if (std::isinf(*every_time)) throw InputError("Simulation.run argument every_time = inf: must be finite");
+    when.every_time = *every_time;
   }
-  const EngineCounters& last() const { return last_; }
-  // The rigid-body engine writes rotated sphere positions into the state only for readers
-  // that ask (RunObserver::next_position_read): the callback may read them after the event
-  // it is called for.
-  double next_position_read() const override {
-    const bool calls_next = !callback_.is_none() && (calls_ + 1) % every_ == 0;
-    return calls_next ? -std::numeric_limits<double>::infinity() : std::numeric_limits<double>::infinity();
-  }
-
- private:
-  py::object callback_;
-  std::int64_t every_;
-  py::object self_;
-  std::int64_t calls_ = 0;
-  EngineCounters last_;
-};
-
-py::dict result_dict(std::string_view reason, const EngineCounters& n, double seconds) {
-  py::dict d;
-  d["stop_reason"] = reason;
-  d["events"] = n.events;
-  d["collisions"] = n.collisions;
-  d["merges"] = n.merges;
-  d["bounces"] = n.bounces;
-  d["wall_bounces"] = n.wall_bounces;
-  d["steps"] = n.steps;
-  d["wall_seconds"] = seconds;
-  return d;
+  const StopCriteria stop = stop_criteria_with(sim.config(), clusters, time, wall_seconds);
+  RunOutputRequest output;
+  if (!out.is_none()) output.out = py::str(out).cast<std::string>();
+  output.overwrite = overwrite;
+  return sim.run(self, callback, when, stop, output);
 }
-
-template <int D>
-class Simulation {
- public:
-  explicit Simulation(const Config& given)
-      : state_(make_initial_state<D>(given)), config_(resolve_defaults(given, state_)), engine_(make_engine<D>(config_)) {}
-
-  py::dict run(const py::object& self, const py::object& callback, std::int64_t every,
-               std::optional<std::int64_t> clusters, std::optional<double> time, std::optional<double> wall_seconds) {
-    // The engine is in the middle of an event while the callback runs: a second run from
-    // there would work on a state and a calendar that the first one still holds.
-    if (running_)
-      throw std::runtime_error("Simulation.run called while the simulation runs (from its callback): return False from "
-                            "the callback to end the run, then call run() again");
-    if (every < 1) throw py::value_error("every must be >= 1");
-    StopCriteria stop = stop_criteria(config_);
-    // The checks of the configuration's [stop] keys, with the same words.
-    if (clusters) {
-      check_stop_clusters(*clusters, "Simulation.run argument clusters");
-      stop.clusters = *clusters;
-    }
-    if (time) {
-      check_stop_duration(*time, "Simulation.run argument time");
-      stop.time = *time;
-    }
-    if (wall_seconds) {
-      check_stop_duration(*wall_seconds, "Simulation.run argument wall_seconds");
-      stop.wall_seconds = *wall_seconds;
-    }
-    PythonObserver<D> observer(callback, every, self);
-    struct Running {
-      bool& flag;
-      explicit Running(bool& f) : flag(f) { flag = true; }
-      ~Running() { flag = false; }
-    } running(running_);
-    try {
-      const RunResult r = engine_->run(state_, stop, observer);
-      return result_dict(to_string(r.reason), r.counters, r.wall_seconds);
-    } catch (const StoppedByCallback&) {
-      return result_dict("callback", observer.last(), 0.0);
-    }
-  }
-
-  Frame<D> frame() const { return capture_frame(state_, state_.time, 0); }
-  const State<D>& state() const { return state_; }
-  const Config& config() const { return config_; }
-  std::string_view engine() const { return engine_->name(); }
-
- private:
-  State<D> state_;
-  Config config_;
-  std::unique_ptr<Engine<D>> engine_;
-  bool running_ = false;  // inside run(): the callback may read the state, not run it
-};
 
 template <int D>
 void bind_simulation_in(py::module_& m, const char* name) {
   using S = Simulation<D>;
   py::class_<S>(m, name, "A simulation in D dimensions (made by ballagg.Simulation(config))")
-      .def("run", [](py::object self, const py::object& callback, std::int64_t every, std::optional<std::int64_t> clusters,
-                     std::optional<double> time, std::optional<double> wall_seconds) {
-        return self.cast<S&>().run(self, callback, every, clusters, time, wall_seconds);
-      }, py::arg("callback") = py::none(), py::arg("every") = 1, py::arg("clusters") = py::none(),
-         py::arg("time") = py::none(), py::arg("wall_seconds") = py::none(),
-         "Runs until the configuration's stop criteria (or the ones given) hold. callback(sim) is called after "
-         "every `every` events (ts: time steps); returning False ends the run there. Calling run() again goes on "
-         "from the current state. Returns a dict: stop_reason, events, collisions, merges, ...")
+      .def("run", &run_simulation_from_python<D>, py::arg("callback") = py::none(), py::arg("every") = py::none(),
+           py::arg("clusters") = py::none(), py::arg("time") = py::none(), py::arg("wall_seconds") = py::none(),
+           py::kw_only(), py::arg("every_time") = py::none(), py::arg("out") = py::none(),
+           py::arg("overwrite") = false,
+           "Runs until the configuration's stop criteria (or the ones given) hold. callback(sim) is called after "
+           "every `every` events (ts: time steps; default 1), or, with every_time=dt, at every t = k dt of simulated "
+           "time in (start, end] with the state at exactly that time; returning False ends the run there. out=DIR "
+           "writes the run's trajectory files and timeseries.csv into DIR as `ballagg run` does (overwrite=True "
+           "replaces another run's files). Calling run() again goes on from the current state. Returns a dict: "
+           "stop_reason, events, collisions, merges, ...")
       .def_property_readonly("dimension", [](const S&) { return D; })
       .def_property_readonly("engine", [](const S& s) { return std::string(s.engine()); })
       .def_property_readonly("config", [](const S& s) { return s.config(); }, "The resolved configuration")
-      .def_property_readonly("time", [](const S& s) { return s.state().time; })
+      .def_property_readonly("time", [](const S& s) { return s.time(); },
+                             "The simulated time (inside a call of every_time: the multiple of it called for)")
       .def_property_readonly("n_spheres", [](const S& s) { return s.state().n_spheres(); })
       .def_property_readonly("n_clusters", [](const S& s) { return s.state().n_clusters(); })
       .def_property_readonly("largest_cluster", [](const S& s) { return s.state().largest_cluster(); })
@@ -176,16 +101,18 @@ void bind_simulation_in(py::module_& m, const char* name) {
         const Frame<D> f = s.frame();
         return from_vector(std::vector<std::int64_t>(f.cluster.begin(), f.cluster.end()));
       }, "Per sphere: its cluster, 0, 1, ... in order of each cluster's first sphere (as final.csv)")
-      .def("max_overlap", [](const S& s) { return max_relative_overlap(s.state()); },
+      .def("max_overlap", [](const S& s) { return max_relative_overlap(s.state_now()); },
            "Largest (R_i + R_j - d) / (R_i + R_j) over close pairs (None if no pair is close)")
-      .def("analyze", [](const S& s) {
+      .def("analyze", [](const S& s, bool tables) {
         const Frame<D> f = s.frame();
-        return aggregate_analysis<D>(s.state().box, table_of<D>(f, particles_of(s.state())));
-      }, "Every indicator of `ballagg analyze` for the current state (a dict)")
+        return aggregate_analysis<D>(s.state().box, table_of<D>(f, particles_of(s.state())), py::none(), tables);
+      }, py::arg("tables") = false,
+         "Every indicator of `ballagg analyze` for the current state: the dict of analysis.json; tables=True: "
+         "(that dict, the CSV tables as {name: {column: array}})")
       .def("write_state", [](const S& s, const std::string& path) {
         const std::filesystem::path p(path);
         write_file_atomically(p.parent_path().empty() ? "." : p.parent_path().string(), p.filename().string(),
-                              state_csv_text(s.state()));
+                              state_csv_text(s.state_now()));
       }, py::arg("path"), "Writes the current state as a final.csv file (usable as initial.file)");
 }
 
@@ -194,14 +121,22 @@ void bind_simulation_in(py::module_& m, const char* name) {
 void bind_simulation(py::module_& m) {
   bind_simulation_in<2>(m, "Simulation2D");
   bind_simulation_in<3>(m, "Simulation3D");
-  m.def("Simulation", [](const py::object& config, const py::object& overrides) -> py::object {
+  m.def("Simulation", [](const py::object& config, const py::object& overrides, const py::object& state) -> py::object {
     if (py::isinstance<Config>(config) && !overrides.is_none())
       throw py::value_error("overrides apply to a dict or a TOML path, not to a Config");
     const Config c = py::isinstance<Config>(config) ? config.cast<Config>() : config_from(config, overrides);
+    if (!state.is_none()) {
+      const ArrayState& s = state.cast<const ArrayState&>();
+      return by_dimension(s.dimension, [&]<int D>() -> py::object {
+        const Config given = config_for_state<D>(c, s);
+        return py::cast(Simulation<D>(given, state_from_spheres<D>(given, std::get<SphereTable<D>>(s.spheres))));
+      });
+    }
     if (c.system.dimension == 2) return py::cast(Simulation<2>(c));
     return py::cast(Simulation<3>(c));
-  }, py::arg("config") = py::none(), py::arg("overrides") = py::none(),
-     "A simulation of a Config (or of what Config() accepts: None, a dict, a TOML path), at its initial state.");
+  }, py::arg("config") = py::none(), py::arg("overrides") = py::none(), py::kw_only(), py::arg("state") = py::none(),
+     "A simulation of a Config (or of what Config() accepts: None, a dict, a TOML path), at its initial state, or at "
+     "`state` (a ballagg.State: its spheres and box length, checked as a state file is).");
 
   m.def("run", [](const py::object& config, const std::string& out, bool quiet, bool overwrite) {
     const Config c = py::isinstance<Config>(config) ? config.cast<Config>() : config_from(config, py::none());

@@ -5,7 +5,9 @@ Usage: /usr/bin/python3 ballagg_plot.py [OPTIONS] DIR [DIR ...]
 
   DIR            sweep directories (with sweep.csv: the figures of Degond et al. 2023, the
                  points of several sweeps together) or run directories (with
-                 timeseries.csv: the time series and, after `ballagg analyze`, the end state)
+                 timeseries.csv: the time series; after `ballagg analyze`, the end state;
+                 after `ballagg analyze --frames`, the indicators against time; after
+                 `ballagg analyze --kinetics`, n(t) and E(t) with the fitted laws)
   --out DIR      where to write the figures (default: the first DIR/figures)
   --format F     png (default), pdf or svg
   --dpi N        dots per inch of a PNG (default 300)
@@ -752,6 +754,149 @@ def box_dimension_text(run):
 
 
 ANALYSIS_TABLES = ("pair_distribution.csv", "box_counting.csv", "mass_radius.csv", "mass_spectrum.csv")
+FRAME_TABLES = ("frames.csv", "frames_mass_spectrum.csv", "frames_clusters.csv")
+# The mass spectrum is drawn at this many frames at most, spread evenly over the run.
+SPECTRUM_FRAMES = 4
+
+
+def fig_frame_indicators(figs, runs):
+    """The indicators of `ballagg analyze --frames` against time: D_f with its error band
+    (all centres, and the largest cluster's mass-radius dimension), N_c, the cluster masses
+    and the largest cluster's aspect ratio."""
+    panels = [("dimension", "fractal dimension"), ("contacts", r"relative contacts $N_c$"),
+              ("mass", "cluster mass / sphere masses"), ("aspect", r"largest cluster's $A_r$")]
+    fig, axes = figs.panels(len(panels), columns=2)
+    single = len(runs) == 1
+    for ax, (key, ylabel) in zip(axes, panels):
+        for run in runs:
+            f = run["frames"]
+            t = f["time"]
+            def line(y, what, style="-", err=None):
+                colour = figs.colour(what) if single else figs.colour(run["label"])
+                ok = np.isfinite(y)
+                ax.plot(t[ok], y[ok], ls=style, marker="o", ms=3, color=colour,
+                        label=what if single else f"{run['label']}, {what}")
+                if err is not None:
+                    ok &= np.isfinite(err)
+                    ax.fill_between(t[ok], (y - err)[ok], (y + err)[ok], color=colour, alpha=0.2, lw=0)
+            if key == "dimension":
+                line(f["box_counting_dimension"], r"$D_f$, all centres", err=f["box_counting_dimension_error"])
+                line(f["largest_mass_radius_dimension"], r"$f_D$, largest cluster (mass-radius)", "--",
+                     err=f["largest_mass_radius_dimension_error"])
+            elif key == "contacts":
+                line(f["contacts"], r"$N_c$")
+            elif key == "mass":
+                line(f["mean_cluster_mass"], r"mean $\langle M \rangle$")
+                line(f["weight_average_mass"], r"weight average $\sum M^2 / \sum M$", "--")
+                ax.set_yscale("log")
+            else:
+                line(f["largest_aspect_ratio"], r"$A_r$")
+        ax.set_xlabel("time $t$")
+        ax.set_ylabel(ylabel)
+        legend_inside(ax)
+    figs.save(fig, "frames_indicators")
+
+
+def spectrum_times(times):
+    """At most SPECTRUM_FRAMES of the frame times, evenly spread, the last always included."""
+    unique = sorted(set(times))
+    if len(unique) <= SPECTRUM_FRAMES:
+        return unique
+    picks = np.linspace(0, len(unique) - 1, SPECTRUM_FRAMES).round().astype(int)
+    return [unique[k] for k in sorted(set(picks))]
+
+
+def fig_frame_spectra(figs, runs):
+    """The mass spectrum at a few frames (Richardson's Figs 3c-d at chosen times)."""
+    fig, axes = figs.panels(1)
+    ax = axes[0]
+    for run in runs:
+        rows = run["frame_spectrum"]
+        times = [number(r, "time") for r in rows]
+        for k, when in enumerate(spectrum_times(times)):
+            chosen = [r for r in rows if number(r, "time") == when]
+            size = np.array([number(r, "size") for r in chosen])
+            count = np.array([number(r, "clusters") for r in chosen])
+            label = f"$t$ = {when:.3g}" if len(runs) == 1 else f"{run['label']}, $t$ = {when:.3g}"
+            ax.plot(size, count, marker="o", ms=3, ls=["-", "--", ":", "-."][k % 4],
+                    color=figs.colour(label), label=label)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("cluster size $s$ / spheres")
+    ax.set_ylabel("number of clusters")
+    legend_inside(ax)
+    figs.save(fig, "frames_mass_spectrum")
+
+
+def fig_kinetics(figs, runs):
+    """n(t) and E(t) on log axes with the laws `ballagg analyze --kinetics` fitted over its window."""
+    panels = [("clusters", "clusters_decay_z", "number of clusters $n$", "z"),
+              ("kinetic_energy", "energy_decay_theta", r"kinetic energy $E$", r"\theta")]
+    fig, axes = figs.panels(len(panels), columns=2)
+    for ax, (column, key, ylabel, symbol) in zip(axes, panels):
+        for run in runs:
+            t, y = run["series"]["time"], run["series"].get(column)
+            if y is None:
+                continue
+            ok = (t > 0) & (y > 0)
+            colour = figs.colour(run["label"])
+            ax.plot(t[ok], y[ok], color=colour, label=run["label"] if len(runs) > 1 else None)
+            k = run["kinetics"]
+            fit, window = k.get(key) or {}, k.get("window") or {}
+            z, pre, t0, t1 = fit.get("exponent"), fit.get("prefactor"), window.get("start"), window.get("end")
+            if all(isinstance(v, (int, float)) for v in (z, pre, t0, t1)):
+                tt = np.geomspace(t0, t1, 50)
+                err = fit.get("exponent_error")
+                ax.plot(tt, pre * tt ** (-z), ls="--", color="black", lw=0.8,
+                        label=f"${symbol}$ = {plus_minus(z, err if isinstance(err, (int, float)) else math.nan)}")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("time $t$")
+        ax.set_ylabel(ylabel)
+        legend_inside(ax)
+    figs.save(fig, "kinetics")
+
+
+def fig_collapse(figs, runs):
+    """The scaled size distribution S^2 n_k / N against k / S of every frame, coloured by time."""
+    fig, axes = figs.panels(1)
+    ax = axes[0]
+    shown = None
+    for run in runs:
+        rows = run["collapse"]
+        x = np.array([number(r, "scaled_size") for r in rows])
+        y = np.array([number(r, "scaled_count") for r in rows])
+        t = np.array([number(r, "time") for r in rows])
+        ok = (x > 0) & (y > 0)
+        shown = ax.scatter(x[ok], y[ok], c=t[ok], s=6, cmap="viridis")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("scaled size $k / S(t)$")
+    ax.set_ylabel(r"scaled number $S^2 n_k / N$")
+    if shown is not None:
+        fig.colorbar(shown, ax=ax, label="time $t$")
+    figs.save(fig, "kinetics_collapse")
+
+
+def fig_frame_r_max(figs, runs):
+    """R_max against N_a of every cluster in every frame, coloured by time."""
+    fig, axes = figs.panels(1)
+    ax = axes[0]
+    shown = None
+    for run in runs:
+        rows = run["frame_clusters"]
+        size = np.array([number(r, "size") for r in rows])
+        r_max = np.array([number(r, "r_max") for r in rows])
+        t = np.array([number(r, "time") for r in rows])
+        ok = (size > 0) & (r_max > 0)
+        shown = ax.scatter(size[ok], r_max[ok], c=t[ok], s=6, cmap="viridis")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("cluster size $N_a$ / spheres")
+    ax.set_ylabel(r"largest extent $R_{\max}$")
+    if shown is not None:
+        fig.colorbar(shown, ax=ax, label="time $t$")
+    figs.save(fig, "frames_r_max")
 
 
 def load_runs(dirs):
@@ -770,12 +915,31 @@ def load_runs(dirs):
         if run["analysis"] is not None and all(os.path.isfile(os.path.join(d, t)) for t in ANALYSIS_TABLES):
             for t in ANALYSIS_TABLES:
                 run["tables"][t] = read_csv(os.path.join(d, t), "run")
+        run["kinetics"] = read_json(os.path.join(d, "kinetics.json"))
+        if os.path.isfile(os.path.join(d, "kinetics_collapse.csv")):
+            run["collapse"] = read_csv(os.path.join(d, "kinetics_collapse.csv"), "run")[0]
+        if all(os.path.isfile(os.path.join(d, t)) for t in FRAME_TABLES):
+            frames, frame_fields = read_csv(os.path.join(d, "frames.csv"), "run")
+            run["frames"] = columns(frames, frame_fields, frame_fields) if frames else None
+            run["frame_spectrum"] = read_csv(os.path.join(d, "frames_mass_spectrum.csv"), "run")[0]
+            run["frame_clusters"] = read_csv(os.path.join(d, "frames_clusters.csv"), "run")[0]
         runs.append(run)
     return runs
 
 
 def plot_runs(figs, runs):
     fig_time_series(figs, runs)
+    with_kinetics = [r for r in runs if r.get("kinetics")]
+    if with_kinetics:
+        fig_kinetics(figs, with_kinetics)
+    collapsed = [r for r in runs if r.get("collapse")]
+    if collapsed:
+        fig_collapse(figs, collapsed)
+    framed = [r for r in runs if r.get("frames")]
+    if framed:
+        fig_frame_indicators(figs, framed)
+        fig_frame_spectra(figs, framed)
+        fig_frame_r_max(figs, framed)
     analysed = [r for r in runs if r["tables"]]
     for r in runs:
         if not r["tables"]:

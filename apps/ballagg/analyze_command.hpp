@@ -2,6 +2,8 @@
 // `ballagg analyze`: the aggregate analysis of a run's final state (docs/analysis.md).
 #include <CLI/CLI.hpp>
 
+#include "ballagg/run/analyze_frames.hpp"
+#include "ballagg/run/analyze_kinetics.hpp"
 #include "ballagg/run/analyze_run.hpp"
 
 namespace ballagg::cli {
@@ -9,7 +11,11 @@ namespace ballagg::cli {
 struct AnalyzeCommand {
   CLI::App* command = nullptr;
   AnalyzeRequest request;
-  bool quiet = false;  // no headline indicators
+  bool frames = false;              // the trajectory's frames instead of the final state
+  std::vector<double> frame_times;  // the frames nearest these times (implies frames)
+  bool kinetics = false;            // the kinetic exponents of the time series
+  std::vector<double> window;       // with kinetics: T0,T1 instead of the automatic window
+  bool quiet = false;               // no headline indicators
 };
 
 void add_analyze_command(CLI::App& app, AnalyzeCommand& analyze);

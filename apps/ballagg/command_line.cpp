@@ -48,7 +48,8 @@ CommandLine::CommandLine() {
                             ->type_name("RUN_DIR");
   for (const char* other : {"config", "--set", "--seed", "--out", "--overwrite"}) resume->excludes(run->get_option(other));
 
-  show = app.add_subcommand("config", "Print the configuration that a run would use, as TOML");
+  show = app.add_subcommand(
+      "config", "Print the configuration a run of these arguments resolves at its start (its config.toml), as TOML");
   add_config_args(*show, show_args);
 
   add_analyze_command(app, analyze);

@@ -89,6 +89,18 @@ std::string run_report_of(const std::string& run_dir) {
   return s.is_object() ? run_report(s) : std::string();
 }
 
+std::string kinetics_headline_of(const std::string& dir) {
+  const Json k = json_of(dir, "kinetics.json");
+  if (!k.is_object() || !k.contains("clusters_decay_z") || !k.contains("window")) return {};
+  const Json& w = k["window"];
+  return fmt::format("z = {} (n ~ t^-z), theta = {} (E ~ t^-theta), over t = {:.4g} .. {:.4g} ({}); mean field for "
+                     "coalescing spheres z = theta = {:.3g}\n",
+                     value_with_error(k["clusters_decay_z"], "exponent", "exponent_error", "flaw"),
+                     value_with_error(k["energy_decay_theta"], "exponent", "exponent_error", "flaw"),
+                     number(w, "start"), number(w, "end"), w.value("automatic", false) ? "automatic window" : "--window",
+                     number(k["mean_field"], "z_coalescing_spheres"));
+}
+
 std::string analysis_headline_of(const std::string& analysis_dir) {
   const Json a = json_of(analysis_dir, "analysis.json");
   if (!a.is_object() || !a.contains("all_spheres") || !a.contains("largest_cluster")) return {};

@@ -22,4 +22,7 @@ std::string run_report_of(const std::string& run_dir);
 std::string analysis_headline(const nlohmann::json& analysis);
 std::string analysis_headline_of(const std::string& analysis_dir);
 
+// The kinetic exponents of DIR/kinetics.json with their window (`analyze --kinetics`).
+std::string kinetics_headline_of(const std::string& dir);
+
 }  // namespace ballagg::cli

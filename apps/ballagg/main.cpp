@@ -13,6 +13,7 @@
 #include "ballagg/io/hdf5_handle.hpp"
 #include "ballagg/io/output_error.hpp"
 #include "ballagg/run/checkpointer.hpp"
+#include "ballagg/run/resolved_config.hpp"
 #include "ballagg/run/simulation.hpp"
 #include "command_line.hpp"
 #include "end_of_run_report.hpp"
@@ -34,7 +35,7 @@ int main(int argc, char** argv) {
     if (*cl.verify.command) return ballagg::cli::run_verify_command(cl.verify);
     if (*cl.show) {
       const ballagg::Config c = ballagg::load_config(cl.show_args.file, cl.show_args.overrides);
-      std::cout << ballagg::to_toml_text(c);
+      std::cout << ballagg::to_toml_text(ballagg::resolved_config(c));
       return 0;
     }
     std::string dir;

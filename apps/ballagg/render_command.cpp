@@ -1,5 +1,8 @@
 #include "render_command.hpp"
 
+#include <unistd.h>
+
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -8,6 +11,7 @@
 #include <fmt/format.h>
 
 #include "ballagg/core/input_error.hpp"
+#include "ballagg/core/progress_line.hpp"
 #include "ballagg/io/h5md_reader.hpp"
 #include "ballagg/io/output_dir.hpp"
 #include "ballagg/render/picture.hpp"
@@ -46,6 +50,7 @@ void add_render_command(CLI::App& app, RenderCommand& render) {
       ->delimiter(',')
       ->expected(3)
       ->type_name("X,Y,Z");
+  cmd->add_flag("--quiet,-q", a.quiet, "No progress of a video's frames on stderr");
 }
 
 namespace {
@@ -77,6 +82,54 @@ Vec<3> direction(const std::string& option, const std::vector<double>& v, const 
   return d;
 }
 
+// "frames 12 / 40  3.1 s" on stderr, as a bar on a terminal (core/progress_line.hpp):
+// every so often while the frames are drawn, and once the video is written.
+class FrameProgress {
+ public:
+  FrameProgress(bool quiet, int frames) : quiet_(quiet), frames_(frames), line_(stderr, isatty(STDERR_FILENO) != 0) {}
+  void drawn(int frame) {
+    if (!quiet_ && line_.due()) report(frame, false);
+  }
+  void finished() {
+    if (!quiet_) report(frames_, true);
+  }
+
+ private:
+  void report(int drawn, bool final) {
+    // "100%" only once ffmpeg has written the video.
+    const double done = frames_ == 0 ? 1.0 : std::min(final ? 1.0 : 0.99, static_cast<double>(drawn) / frames_);
+    line_.draw(done, fmt::format("frames {} / {}  {:.1f} s", drawn, frames_, line_.seconds()), final);
+  }
+
+  bool quiet_;
+  int frames_;
+  ProgressLine line_;
+};
+
+// An MP4 video of every frame of the trajectory; returns what it wrote, for the last lines.
+template <int D>
+std::string write_video(const RenderArgs& a, const std::string& trajectory, const PictureOptions& options) {
+  const int rank = a.aggregate.value_or(0);
+  const H5mdReader<D> reader(trajectory);
+  const Layout layout = make_layout(a.width);
+  FfmpegVideo video(a.video, layout.width, layout.height, a.fps);
+  FrameProgress progress(a.quiet, reader.frames());
+  for (int k = 0; k < reader.frames(); ++k) {
+    cairo_surface_t* image = render_image(make_scene(reader.frame(k), reader.particles(), rank), options);
+    try {
+      video.add(image);
+    } catch (...) {
+      cairo_surface_destroy(image);
+      throw;
+    }
+    cairo_surface_destroy(image);
+    progress.drawn(k + 1);
+  }
+  video.finish();
+  progress.finished();
+  return fmt::format("{} ({} frames)", a.video, reader.frames());
+}
+
 template <int D>
 int render(const RenderArgs& a, const RunDirectory& run) {
   PictureOptions options;
@@ -89,23 +142,7 @@ int render(const RenderArgs& a, const RunDirectory& run) {
   const std::string trajectory = run.path("trajectory.h5md");
   std::vector<std::string> written;
 
-  if (!a.video.empty()) {
-    const H5mdReader<D> reader(trajectory);
-    const Layout layout = make_layout(a.width);
-    FfmpegVideo video(a.video, layout.width, layout.height, a.fps);
-    for (int k = 0; k < reader.frames(); ++k) {
-      cairo_surface_t* image = render_image(make_scene(reader.frame(k), reader.particles(), rank), options);
-      try {
-        video.add(image);
-      } catch (...) {
-        cairo_surface_destroy(image);
-        throw;
-      }
-      cairo_surface_destroy(image);
-    }
-    video.finish();
-    written.push_back(fmt::format("{} ({} frames)", a.video, reader.frames()));
-  }
+  if (!a.video.empty()) written.push_back(write_video<D>(a, trajectory, options));
 
   const bool picture = !a.png.empty() || !a.svg.empty() || !a.pov.empty() || a.video.empty();
   if (picture) {

@@ -16,6 +16,7 @@ struct RenderArgs {
   double fps = 10.0;
   std::optional<int> aggregate;
   std::vector<double> view, light;
+  bool quiet = false;  // no progress of a video's frames
 };
 
 struct RenderCommand {

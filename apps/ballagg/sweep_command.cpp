@@ -18,7 +18,7 @@ void add_sweep_command(CLI::App& app, SweepCommand& s) {
       ->check(CLI::Range(1, 4096));
   s.command->add_option("--threads", s.options.threads_per_run, "OpenMP threads of each run (default 1)")
       ->check(CLI::Range(1, 4096));
-  s.command->add_flag("--quiet,-q", s.options.quiet, "No line per finished run");
+  s.command->add_flag("--quiet,-q", s.options.quiet, "No progress lines (the last line, the runs done, stays)");
 }
 
 int run_sweep_command(SweepCommand& s) {

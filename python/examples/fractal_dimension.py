@@ -23,7 +23,7 @@ for n in SIZES:
         sim = ballagg.Simulation({"system": {"n": n, "volume_fraction": VOLUME_FRACTION},
                                   "initial": {"seed": 1 + k}})   # the seeds of docs/validation.md
         sim.run()                                                 # to one cluster
-        dims.append(sim.analyze()["box_counting"]["dimension"])  # (4.7), 3R <= eps <= L/2
+        dims.append(sim.analyze()["all_spheres"]["box_counting"]["dimension"])  # (4.7), 3R <= eps <= L/2
     dims = np.array(dims)
     rows.append((n, dims.mean(), dims.std(ddof=1) / np.sqrt(len(dims))))
     print(f"N = {n:5d}: D_f = {rows[-1][1]:.4f} +- {rows[-1][2]:.4f}")

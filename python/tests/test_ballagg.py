@@ -1,6 +1,7 @@
 """The ballagg Python module: configurations, simulations with callbacks, numpy state,
 the analysis functions and run directories, checked against physics and against the
 command line (the same configuration and seed give the same bytes)."""
+import json
 import math
 import os
 import subprocess
@@ -266,12 +267,51 @@ def test_analyze_of_a_simulation_matches_the_loaded_run(tmp_path):
     out = ballagg.run(small(stop={"clusters": 20}), out=str(tmp_path / "run"))
     sim = ballagg.Simulation(small(stop={"clusters": 20}))
     sim.run()
-    a, b = sim.analyze(), ballagg.load(out).analyze()
-    assert a["contacts"] == b["contacts"]
-    assert np.array_equal(a["clusters"]["size"], b["clusters"]["size"])
-    assert a["box_counting"]["dimension"] == b["box_counting"]["dimension"]
+    (a, a_tables), (b, b_tables) = sim.analyze(tables=True), ballagg.load(out).analyze(tables=True)
+    assert a["all_spheres"]["contacts"] == b["all_spheres"]["contacts"]
+    assert np.array_equal(a_tables["clusters"]["size"], b_tables["clusters"]["size"])
+    assert a["all_spheres"]["box_counting"]["dimension"] == b["all_spheres"]["box_counting"]["dimension"]
     c = ballagg.analyze(sim.positions, sim.radii, sim.cluster_ids, sim.box_length, masses=sim.masses)
-    assert c["contacts"] == a["contacts"]
+    assert c["all_spheres"]["contacts"] == a["all_spheres"]["contacts"]
+
+
+def key_tree(value):
+    """The keys and nesting of a JSON-like value: dicts by key, lists by position."""
+    if isinstance(value, dict):
+        return {k: key_tree(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [key_tree(v) for v in value]
+    return None
+
+
+def test_analyze_has_the_schema_and_values_of_analysis_json(tmp_path):
+    for dimension in (2, 3):
+        config = small(system={"dimension": dimension, "n": 150}, stop={"clusters": 30})
+        out = ballagg.run(config, out=str(tmp_path / f"run{dimension}"))
+        subprocess.run([BINARY, "analyze", "--quiet", out], check=True)
+        with open(os.path.join(out, "analysis.json")) as f:
+            written = json.load(f)
+        sim = ballagg.Simulation(config)
+        sim.run()
+        from_simulation = sim.analyze()
+        from_run = ballagg.load(out).analyze()
+        assert list(from_simulation) == list(written)  # the same keys in the same order
+        assert key_tree(from_simulation) == key_tree(written) == key_tree(from_run)
+        assert from_run == written
+        assert from_simulation["state_file"] is None
+        assert {**from_simulation, "state_file": written["state_file"]} == written
+        _, tables = ballagg.load(out).analyze(tables=True)
+        assert sorted(f"{name}.csv" for name in tables) == sorted(written["files"])
+        for name, columns in tables.items():
+            on_disk = np.genfromtxt(os.path.join(out, f"{name}.csv"), delimiter=",", names=True, dtype=None,
+                                    encoding="utf-8")
+            assert list(columns) == list(on_disk.dtype.names)
+            for column, values in columns.items():
+                expected = np.atleast_1d(on_disk[column])
+                if values.dtype.kind in "iuf":
+                    assert np.array_equal(values, expected.astype(values.dtype), equal_nan=True), (name, column)
+                else:
+                    assert list(values) == [str(v) for v in expected], (name, column)
 
 
 # ---- rigid bodies (engine.kind = "rigid-body") -------------------------------------------
@@ -364,3 +404,236 @@ def test_run_refuses_a_directory_holding_another_run_unless_overwrite(tmp_path):
     assert (tmp_path / "run" / "summary.json").read_text() == summary
     ballagg.run(small(initial={"seed": 9}, stop={"clusters": 150}), out=out, overwrite=True)
     assert '"seed": 9' in (tmp_path / "run" / "summary.json").read_text()
+
+
+# ---- values and keys as Python gives them ------------------------------------------------
+
+@pytest.mark.parametrize("sections, message", [
+    ({"system": {"nn": 1}}, r"^system\.nn: unknown key 'system\.nn' \(keys of \[system\]"),
+    ({"system": {"n": -3}}, r"^system\.n = -3: must be an integer from 1 to"),
+    ({"stop": {"time": "x"}}, r"^stop\.time = \"x\": must be a number > 0"),
+    ({"warp": {"a": 1}}, r"^warp: unknown section \[warp\]"),
+])
+def test_errors_name_the_python_key_not_the_command_line(sections, message):
+    for given in ({"config": sections}, {"config": None, "overrides": sections}):
+        with pytest.raises(ballagg.InputError, match=message) as error:
+            ballagg.Config(given["config"], overrides=given.get("overrides"))
+        assert "--set" not in str(error.value) and "\n" not in str(error.value)
+
+
+def test_numpy_scalars_and_arrays_are_configuration_values():
+    c = ballagg.Config({"system": {"n": np.int64(50), "dimension": np.int32(3), "radius": np.float32(0.5),
+                                   "mass": np.float64(2.0)},
+                        "initial": {"seed": np.uint16(7), "zero_momentum": np.bool_(True)},
+                        "output": {"snapshot_formats": np.array(["h5md", "xyz"])}}).to_dict()
+    assert c["system"]["n"] == 50 and c["system"]["dimension"] == 3
+    assert c["system"]["radius"] == 0.5 and c["system"]["mass"] == 2.0
+    assert c["initial"]["seed"] == 7 and c["initial"]["zero_momentum"] is True
+    assert c["output"]["snapshot_formats"] == ["h5md", "xyz"]
+    sim = ballagg.Simulation({"system": {"n": np.int64(30)}})
+    assert sim.n_spheres == 30
+
+
+@pytest.mark.parametrize("value", [100.0, np.float64(100.0), np.float32(100.0)])
+def test_a_float_for_an_integer_key_is_refused(value):
+    with pytest.raises(ballagg.InputError, match=r"^system\.n = 100\.0: must be an integer \(a Python int or a numpy "
+                                                  r"integer\), not a float$"):
+        ballagg.Config({"system": {"n": value}})
+    with pytest.raises(ballagg.InputError, match=r"^stop\.clusters = 100\.0: must be an integer"):
+        ballagg.Simulation(None, overrides={"stop": {"clusters": value}})
+    assert ballagg.Config({"stop": {"time": 3}}).to_dict()["stop"]["time"] == 3.0  # an int for a float key
+
+
+def test_a_section_that_is_not_a_dict_is_a_type_error():
+    with pytest.raises(TypeError, match=r"^n: a int where a section's dict of keys belongs"):
+        ballagg.Config({"n": 100})
+    with pytest.raises(TypeError, match=r"^system\.n: a object is not a configuration value"):
+        ballagg.Config({"system": {"n": object()}})
+
+
+def test_box_counting_length_unit_defaults_to_the_sphere_radius():
+    t = np.linspace(0.0, 64.0, 4097)[:-1]
+    line = np.column_stack([t, np.full_like(t, 32.0)])
+    radii = np.full(len(t), 0.1)
+    by_radii = ballagg.box_counting(line, box_length=64.0, radii=radii)
+    by_unit = ballagg.box_counting(line, box_length=64.0, length_unit=0.1)
+    assert np.array_equal(by_radii["fitted"], by_unit["fitted"]) and by_radii["dimension"] == by_unit["dimension"]
+    default = ballagg.box_counting(line, box_length=64.0)  # R = 0.2, the default system.radius
+    assert np.array_equal(default["fitted"], ballagg.box_counting(line, box_length=64.0, length_unit=0.2)["fitted"])
+    assert not np.array_equal(default["fitted"], by_unit["fitted"])  # the unit sets the fitted range
+    # As `ballagg analyze`: its box counting over all spheres uses R of the spheres.
+    sim = ballagg.Simulation(small(stop={"clusters": 20}))
+    sim.run()
+    a = sim.analyze()
+    ours = ballagg.box_counting(sim.positions, sim.box_length, radii=sim.radii)
+    assert ours["dimension"] == a["all_spheres"]["box_counting"]["dimension"]
+    with pytest.raises(ValueError, match="length_unit = -1: must be a number > 0"):
+        ballagg.box_counting(line, box_length=64.0, length_unit=-1.0)
+
+
+# ---- callbacks in simulated time, output files ---------------------------------------------
+
+@pytest.mark.parametrize("engine", ["ed", "ts", "rigid-body"])
+def test_callback_every_time_sees_the_state_at_exact_multiples(tmp_path, engine):
+    config = small(engine={"kind": engine}, stop={"time": 3.0},
+                   output={"snapshot_every": 0.5, "snapshot_precision": "double"})
+    seen = []
+    sim = ballagg.Simulation(config)
+    result = sim.run(lambda s: seen.append((s.time, s.positions, s.velocities, s.n_clusters)), every_time=0.5)
+    assert result["stop_reason"] == "time" and sim.time == 3.0
+    assert [t for t, *_ in seen] == [0.5 * k for k in range(1, 7)]
+    # The frames of `ballagg run` at the same times (double precision) hold the same state.
+    run = ballagg.load(ballagg.run(config, out=str(tmp_path / "run")))
+    for k, (t, x, v, clusters) in enumerate(seen, start=1):
+        frame = run.frame(k)
+        assert frame["time"] == t
+        assert np.array_equal(frame["positions"], x) and np.array_equal(frame["velocities"], v)
+        assert frame["n_clusters"] == clusters
+    again = []
+    ballagg.Simulation(config).run(lambda s: again.append((s.time, s.positions)), every_time=0.5)
+    assert all(a[0] == b[0] and np.array_equal(a[1], b[1]) for a, b in zip(seen, again))  # deterministic
+
+
+def test_callback_every_time_ends_the_run_at_its_time_and_run_goes_on():
+    sim = ballagg.Simulation(small(stop={"time": 4.0}))
+    times = []
+
+    def until_1_5(s):
+        times.append(s.time)
+        return s.time < 1.5
+
+    assert sim.run(until_1_5, every_time=0.25)["stop_reason"] == "callback"
+    assert sim.time == 1.5 and times[-1] == 1.5
+    x = sim.positions
+    assert sim.run(lambda s: times.append(s.time), every_time=0.25, time=2.0)["stop_reason"] == "time"
+    assert times == [0.25 * k for k in range(1, 9)]
+    assert not np.array_equal(x, sim.positions)
+
+
+@pytest.mark.parametrize("arguments, error, message", [
+    ({"every": 2, "every_time": 0.5}, ValueError, "not both"),
+    ({"every_time": 0.0}, ballagg.InputError, r"every_time = 0: must be a number > 0"),
+    ({"every_time": -1.0}, ballagg.InputError, r"every_time = -1: must be a number > 0"),
+    ({"every_time": math.nan}, ballagg.InputError, r"every_time = nan: must be a number > 0"),
+    ({"every_time": math.inf}, ballagg.InputError, r"every_time = inf: must be finite"),
+    ({"every": 0}, ValueError, r"every = 0: must be an integer >= 1"),
+])
+def test_run_refuses_bad_callback_intervals(arguments, error, message):
+    sim = ballagg.Simulation(small())
+    with pytest.raises(error, match=message):
+        sim.run(lambda s: None, **arguments)
+    assert sim.time == 0.0
+
+
+def test_simulation_writes_the_output_files_of_ballagg_run(tmp_path):
+    config = small(output={"snapshot_every": 2.0, "snapshot_formats": ["h5md", "xyz", "gsd"],
+                           "timeseries_interval": 1.0})
+    cli = ballagg.run(config, out=str(tmp_path / "cli"))
+    sim = ballagg.Simulation(config)
+    seen = []
+    assert sim.run(lambda s: seen.append(s.time), every_time=1.0, out=tmp_path / "python")["stop_reason"] == "clusters"
+    written = sorted(os.listdir(tmp_path / "python"))
+    assert written == ["timeseries.csv", "trajectory.gsd", "trajectory.h5md", "trajectory.xyz"]
+    for name in written:
+        assert (tmp_path / "python" / name).read_bytes() == open(os.path.join(cli, name), "rb").read(), name
+    assert len(seen) == int(sim.time)
+    # Another run's files are kept unless overwrite=True.
+    with pytest.raises(ballagg.InputError, match="holds another run"):
+        ballagg.Simulation(config).run(out=tmp_path / "python")
+    ballagg.Simulation(config).run(out=tmp_path / "python", overwrite=True)
+
+
+def test_output_of_a_run_whose_callback_fails_is_not_left_behind(tmp_path):
+    sim = ballagg.Simulation(small(output={"snapshot_every": 0.5}))
+
+    def fail(s):
+        raise KeyError("from the callback")
+
+    with pytest.raises(KeyError, match="from the callback"):
+        sim.run(fail, every_time=1.0, out=tmp_path / "out")
+    assert not os.path.exists(tmp_path / "out")
+
+
+def test_output_of_a_run_ended_by_its_callback_ends_at_that_time(tmp_path):
+    config = small(output={"snapshot_every": 0.5, "snapshot_precision": "double"})
+    sim = ballagg.Simulation(config)
+    assert sim.run(lambda s: s.time < 2.0, every_time=1.0, out=tmp_path / "out")["stop_reason"] == "callback"
+    import h5py  # Debian's python3-h5py, as tests/io/check_h5md.py
+    with h5py.File(tmp_path / "out" / "trajectory.h5md", "r") as f:
+        times = list(f["particles/all/position/time"][()])
+        last = f["particles/all/position/value"][-1]
+    assert times == [0.5 * k for k in range(5)]
+    assert np.array_equal(last, sim.positions)
+
+
+# ---- a state from numpy arrays -----------------------------------------------------------
+
+def test_state_from_arrays_runs_as_the_same_state_file(tmp_path):
+    """Arrays and the state file of the same spheres give the same run, byte for byte."""
+    start = ballagg.Simulation(small(system={"boundary": "periodic"}))
+    start.run(clusters=150)  # some glued clusters
+    x, v, r, m, ids = start.positions, start.velocities, start.radii, start.masses, start.cluster_ids
+    start.write_state(str(tmp_path / "start.csv"))
+    physics = {"system": {"boundary": "periodic"}, "output": {"timeseries_interval": 0.5}}
+    from_file = ballagg.Simulation({**physics, "system": {"boundary": "periodic", "box_length": start.box_length},
+                                    "initial": {"positions": "file", "file": str(tmp_path / "start.csv")}})
+    state = ballagg.State.from_arrays(x, v, r, m, ids, box_length=start.box_length)
+    assert state.dimension == 2 and state.n_spheres == 200 and state.box_length == start.box_length
+    from_arrays = ballagg.Simulation(physics, state=state)
+    assert from_arrays.n_clusters == from_file.n_clusters == 150
+    from_file.run(out=tmp_path / "file")
+    from_arrays.run(out=tmp_path / "arrays")
+    from_file.write_state(str(tmp_path / "file" / "final.csv"))
+    from_arrays.write_state(str(tmp_path / "arrays" / "final.csv"))
+    for name in ["final.csv", "timeseries.csv"]:
+        assert (tmp_path / "file" / name).read_bytes() == (tmp_path / "arrays" / name).read_bytes(), name
+    assert from_arrays.n_clusters == 1
+
+
+def test_state_from_arrays_in_3d_with_spins_and_integer_ids_of_any_kind():
+    x = np.array([[2.0, 2.0, 2.0], [3.0, 2.0, 2.0], [7.0, 7.0, 7.0]])
+    v = np.array([[0.5, 0.0, 0.0], [0.5, 0.0, 0.0], [-0.5, -0.5, 0.0]])
+    w = np.array([[0.0, 0.0, 0.1], [0.0, 0.0, 0.1], [0.0, 0.0, 0.0]])
+    state = ballagg.State.from_arrays(x, v, np.full(3, 0.5), np.ones(3), np.array([4, 4, 9], dtype=np.int32),
+                                      box_length=10.0, angular_velocities=w)
+    sim = ballagg.Simulation({"system": {"dimension": 3}, "engine": {"kind": "rigid-body"}}, state=state)
+    assert sim.n_clusters == 2 and sim.dimension == 3
+    assert np.allclose(sim.angular_velocities[:2], [[0.0, 0.0, 0.1]] * 2)
+
+
+@pytest.mark.parametrize("change, message", [
+    (lambda a: a["radii"].__setitem__(3, 1e102), r"^radii\[3\]: 1e\+102 is outside \["),
+    (lambda a: a["masses"].__setitem__(5, 0.0), r"^masses\[5\]: 0 is outside \["),
+    (lambda a: a["velocities"].__setitem__(2, [1e300, 0.0]), r"^velocities\[2\]: the speed 1e\+300 is above"),
+    (lambda a: a["positions"].__setitem__(1, [np.nan, 1.0]), r"^positions\[1, 0\] = nan: must be a finite number"),
+    (lambda a: a["radii"].__setitem__(0, np.inf), r"^radii\[0\] = inf: must be a finite number"),
+    (lambda a: a["positions"].__setitem__(1, a["positions"][0] + [0.1, 0.0]),
+     r"^sphere 0: this sphere overlaps sphere 1 by 0\.9 of their contact distance"),
+    (lambda a: a["positions"].__setitem__(2, [-30.0, 5.0]), r"^positions\[2, 0\]: -30 is more than \S+ box length"),
+])
+def test_state_from_arrays_errors_name_the_array_and_the_index(change, message):
+    arrays = {"positions": np.array([[1.0 + 2.0 * k, 5.0] for k in range(6)]), "velocities": np.zeros((6, 2)),
+              "radii": np.full(6, 0.5), "masses": np.ones(6)}
+    change(arrays)
+    with pytest.raises(ballagg.InputError, match=message) as error:
+        state = ballagg.State.from_arrays(**arrays, box_length=12.0)
+        ballagg.Simulation({"system": {"boundary": "periodic"}}, state=state)
+    assert "\n" not in str(error.value)
+
+
+def test_state_from_arrays_refuses_shapes_and_kinds_that_do_not_fit():
+    x, v, r, m = np.array([[1.0, 1.0], [3.0, 1.0]]), np.zeros((2, 2)), np.full(2, 0.5), np.ones(2)
+    with pytest.raises(ValueError, match=r"velocities must be an \(2, 2\) array"):
+        ballagg.State.from_arrays(x, np.zeros((2, 3)), r, m, box_length=10.0)
+    with pytest.raises(ValueError, match="radii must be a 1-d array of length 2"):
+        ballagg.State.from_arrays(x, v, np.full(3, 0.5), m, box_length=10.0)
+    with pytest.raises(TypeError, match="cluster_ids must be an array of integers"):
+        ballagg.State.from_arrays(x, v, r, m, np.array([0.0, 1.0]), box_length=10.0)
+    with pytest.raises(ballagg.InputError, match=r"box_length = -1: must be a number > 0"):
+        ballagg.State.from_arrays(x, v, r, m, box_length=-1.0)
+    state = ballagg.State.from_arrays(x, v, r, m, box_length=10.0)
+    with pytest.raises(ballagg.InputError, match=r"the state is 2D .*, the configuration 3D"):
+        ballagg.Simulation({"system": {"dimension": 3}}, state=state)
+    with pytest.raises(ballagg.InputError, match=r"sphere 1: velocity \(1, 0\) differs from \(0, 0\)"):
+        ballagg.Simulation(None, state=ballagg.State.from_arrays(x, np.array([[0.0, 0.0], [1.0, 0.0]]), r, m,
+                                                                  [7, 7], box_length=10.0))

@@ -209,6 +209,30 @@ TEST_F(Plot, RunDirectoriesOfBothKindsOfEngine) {
   EXPECT_NE(raw.out.find(fmt::format("run `ballagg analyze {}` first", at("raw").string())), std::string::npos) << raw.out;
 }
 
+TEST_F(Plot, FramesAndKineticsOfARunAreDrawnAgainstTime) {
+  const fs::path run = at("framed"), out = at("framed_figures");
+  ASSERT_EQ(run_ballagg({"run", "-q", "--out", run.string(), "--set", "system.n=100", "--set",
+                         "output.snapshot_every=4"}, dir_->path()).status, 0);
+  const auto a = run_ballagg({"analyze", run.string(), "--frames"}, dir_->path());
+  ASSERT_EQ(a.status, 0) << a.err;
+  const auto k = run_ballagg({"analyze", run.string(), "--kinetics"}, dir_->path());
+  ASSERT_EQ(k.status, 0) << k.err;
+  const auto o = plot({run.string(), "--format", "svg", "--out", out.string()});
+  ASSERT_EQ(o.status, 0) << o.err;
+  const std::string indicators = slurp(out / "frames_indicators.svg");
+  EXPECT_EQ(panels(indicators), 4u);
+  EXPECT_NE(indicators.find("all centres"), std::string::npos);
+  // Four frames of the spectrum at most, named by their times.
+  const std::string spectrum = slurp(out / "frames_mass_spectrum.svg");
+  EXPECT_EQ(count(spectrum, "$t$ = "), 4u);
+  EXPECT_TRUE(fs::exists(out / "frames_r_max.svg"));
+  // n(t) and E(t) beside each other, and the collapse of the frames' size distributions.
+  EXPECT_EQ(panels(slurp(out / "kinetics.svg")), 2u);
+  EXPECT_TRUE(fs::exists(out / "kinetics_collapse.svg"));
+  // A run without frame tables gets none of these figures.
+  EXPECT_FALSE(fs::exists(drawn("svg") / "frames_indicators.svg"));
+}
+
 TEST_F(Plot, TheScriptIsAFileToCopyEditAndRun) {
   const auto printed = plot({"--print-script"});
   ASSERT_EQ(printed.status, 0) << printed.err;

@@ -439,7 +439,7 @@ TEST(Config, UnknownKeyNamesKeyLineAndAllowedKeys) {
   const std::string m = error_of("[system]\nn = 10\n\nradus = 0.5\n");
   EXPECT_CONTAINS(m, "run.toml:4");
   EXPECT_CONTAINS(m, "unknown key 'system.radus'");
-  EXPECT_CONTAINS(m, "boundary, box_length, dimension, mass, n, radius, volume_fraction");
+  EXPECT_CONTAINS(m, "boundary, box_length, density, dimension, mass, n, radii, radius, radius_distribution, radius_exponent, radius_max, radius_min, radius_sigma, radius_weights, volume_fraction");
 }
 
 TEST(Config, UnknownKeyInEverySectionIsReported) {
@@ -737,6 +737,52 @@ TEST(Config, DensestPackingCheckUsesTheDimensionFromSet) {
   const std::string m = error_of("[system]\nvolume_fraction = 0.8\n", {"system.dimension=3"});
   EXPECT_CONTAINS(m, "system.volume_fraction = 0.8");
   EXPECT_CONTAINS(m, "0.7405");
+}
+
+// A rule between keys given by --set names those --set arguments, not "(defaults)" (the
+// last --set of a key is the one named); keys from a file name the file.
+TEST(Config, RulesBetweenKeysNameTheSetArgumentsThatGaveThem) {
+  EXPECT_EQ(error_of("", {"system.box_length=10", "system.volume_fraction=0.3"}, "(defaults)"),
+            "--set system.box_length=10 --set system.volume_fraction=0.3: give system.volume_fraction or "
+            "system.box_length, not both");
+  EXPECT_EQ(error_of("[system]\nbox_length = 10\n", {"system.volume_fraction=0.4", "system.volume_fraction=0.3"})
+                .rfind("--set system.volume_fraction=0.3: give", 0), 0u);
+  for (const auto& [sets, rule] : std::vector<std::pair<std::vector<std::string>, std::string>>{
+           {{"engine.kind=ts", "collision.outcome=bounce"}, "--set engine.kind=ts --set collision.outcome=bounce: "},
+           {{"initial.positions=file"}, "--set initial.positions=file: initial.positions = \"file\" needs initial.file"},
+           {{"initial.file=a.csv"}, "--set initial.file=a.csv: initial.file is only read"},
+           {{"system.volume_fraction=0.95"}, "--set system.volume_fraction=0.95: system.volume_fraction = 0.95"},
+           {{"collision.mu_t=0.5"}, "--set collision.mu_t=0.5: collision.mu_t is a key of the rigid-body engine"},
+           {{"ts.c_min=0.9", "ts.c_max=0.5"}, "--set ts.c_max: ts.c_min = 0.9 is larger"},
+           {{"output.snapshot_every=1", "output.snapshot_formats=[]"}, "--set output.snapshot_every=1 --set "
+                                                                       "output.snapshot_formats=[]: "},
+           {{"stop.time=2", "initial.time=3"}, "--set stop.time=2 --set initial.time=3: stop.time = 2 is not after "
+                                               "initial.time = 3"}}) {
+    const std::string m = error_of("", sets, "(defaults)");
+    EXPECT_EQ(m.rfind(rule, 0), 0u) << m;
+    EXPECT_EQ(m.find("(defaults)"), std::string::npos) << m;
+  }
+  // From a file, the file is named as before.
+  EXPECT_EQ(error_of("[engine]\nkind = \"ts\"\n[collision]\noutcome = \"bounce\"\n").rfind("run.toml: ", 0), 0u);
+}
+
+TEST(Config, InitialTimeIsAFiniteTimeNotBelowZero) {
+  EXPECT_EQ(parse_config_text("", "t").initial.time, 0.0);
+  const Config c = parse_config_text("[initial]\ntime = 2.5\n", "t");
+  EXPECT_EQ(c.initial.time, 2.5);
+  EXPECT_CONTAINS(ballagg::to_toml_text(c), "time = 2.5\n");
+  EXPECT_EQ(parse_config_text(ballagg::to_toml_text(c), "back").initial.time, 2.5);
+  // Written only when the clock does not start at 0.
+  const std::string text = ballagg::to_toml_text(parse_config_text("", "t"));
+  const std::string initial = text.substr(text.find("[initial]"), text.find("[collision]") - text.find("[initial]"));
+  EXPECT_EQ(initial.find("time"), std::string::npos) << initial;
+  for (const std::string v : {"-1", "nan", "inf", "-inf", "\"soon\""}) {
+    const std::string m = error_of("[initial]\ntime = " + v + "\n");
+    EXPECT_CONTAINS(m, "run.toml:2: initial.time = ");
+    EXPECT_CONTAINS(m, "must be a finite number >= 0");
+  }
+  EXPECT_CONTAINS(error_of("", {"initial.time=-1"}), "--set initial.time: initial.time = -1: must be a finite number >= 0");
+  EXPECT_CONTAINS(error_of("[initial]\ntime = 4\n[stop]\ntime = 4\n"), "stop.time = 4 is not after initial.time = 4");
 }
 
 // ---------------------------------------------------------------------------------------

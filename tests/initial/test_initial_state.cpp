@@ -146,6 +146,32 @@ TEST(InitialState, VelocitiesDoNotDependOnHowPositionsWereDrawn) {
   for (int i = 0; i < 100; ++i) EXPECT_EQ(a.velocity(i), b.velocity(i));
 }
 
+// initial.time: the state's positions are those at that time, and its clock reads it.
+TEST(InitialState, InitialTimeStartsTheClockWithThePositionsUnchanged) {
+  Config c = defaults();
+  c.system.n = 100;
+  c.initial.zero_momentum = true;
+  const State<2> at_zero = make_initial_state<2>(c);
+  c.initial.time = 7.25;
+  const State<2> late = make_initial_state<2>(c);
+  EXPECT_EQ(late.time, 7.25);
+  for (int i = 0; i < 100; ++i) {
+    EXPECT_EQ(late.position(i, 7.25), at_zero.position(i, 0.0));
+    EXPECT_EQ(late.velocity(i), at_zero.velocity(i));
+  }
+  for (int k : late.alive_clusters()) EXPECT_EQ(late.clusters[k].anchor_time, 7.25);
+}
+
+TEST(InitialState, PlacementErrorsNameTheSetArguments) {
+  try {
+    make_initial_state<2>(parse_config_text("", "(defaults)", {"system.n=2", "system.volume_fraction=0.5"}));
+    FAIL() << "expected InputError";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).rfind("--set system.n=2 --set system.volume_fraction=0.5: initial.positions = "
+                                          "\"lattice\"", 0), 0u) << e.what();
+  }
+}
+
 TEST(InitialState, LatticeTooDenseIsRefusedWithTheLimit) {
   Config c = defaults();
   c.system.n = 2;  // a 2x2 lattice holds 2 spheres: spacing L/2 must exceed 2R

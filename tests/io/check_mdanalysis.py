@@ -6,7 +6,8 @@ periodic run, a 2D walled run with output.h5md_pad_3d = true, and a 2D periodic 
 without it. Checks that
 
 * MDAnalysis opens the 3D and the padded 2D file with its defaults (convert_units=True;
-  the atoms from final.xyz: Universe("final.xyz", "trajectory.h5md")):
+  the atoms from final.xyz: Universe("final.xyz", "trajectory.h5md"), and without a
+  topology, into Universe.empty(N, trajectory=True) with load_new):
   per frame, its positions, box and time are ballagg's (the file read with h5py; the last
   frame's positions those of final.csv rounded to float32, as stored), unconverted: the
   unit attributes name MDAnalysis's own base units (Angstrom, ps);
@@ -108,6 +109,18 @@ def check_mdanalysis(topology, path, f):
     return len(u.trajectory)
 
 
+def check_without_topology(path, f):
+    """Without final.xyz: an empty Universe of the file's N atoms, the trajectory loaded
+    into it, gives the same frames."""
+    position = f["particles/all/position/value"]
+    u = MDAnalysis.Universe.empty(position.shape[1], trajectory=True)
+    u.load_new(path, format="H5MD")
+    assert len(u.trajectory) == position.shape[0]
+    for k, ts in enumerate(u.trajectory):
+        assert np.array_equal(ts.positions, position[k]), f"frame {k}: positions (no topology)"
+        assert ts.time == f["particles/all/position/time"][k]
+
+
 def check(binary, workdir, name, dimension, boundary, n, every, pad):
     out = os.path.join(workdir, name)
     run(binary, out, dimension, boundary, n, every, ["output.h5md_pad_3d=true"] if pad else [])
@@ -119,6 +132,7 @@ def check(binary, workdir, name, dimension, boundary, n, every, pad):
         last = f["particles/all/position/value"][-1]
         assert np.array_equal(last, final_x.astype(np.float32)), "last frame: not final.csv rounded to float32"
         frames = check_mdanalysis(os.path.join(out, "final.xyz"), path, f)
+        check_without_topology(path, f)
     print(f"{name}: {frames} frames of {n} spheres read by MDAnalysis {MDAnalysis.__version__} as ballagg wrote them")
 
 

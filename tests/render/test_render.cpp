@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <numbers>
 #include <random>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -383,6 +384,33 @@ TEST_F(RenderCli, AnFfmpegFailureThatIsNotTheDiskIsStatusOneWithItsMessage) {
   EXPECT_EQ(o.status, 1) << o.err;
   EXPECT_EQ(o.err, "ballagg: failed: " + out("v.mp4").string() + ": ffmpeg failed: Something else went wrong\n");
   EXPECT_TRUE(fs::is_empty(dir_.path())) << "something was left";
+}
+
+// The frames' progress on stderr (a plain line in a pipe, the last once the video is
+// written), and nothing there with --quiet. A stand-in ffmpeg that copies the frames into
+// its output file: the progress is ours, not ffmpeg's, so the test needs no ffmpeg.
+TEST_F(RenderCli, VideoProgressCountsTheFramesAndQuietSilencesIt) {
+  const TempDir bin("ballagg-test-fake-ffmpeg-");
+  const fs::path fake = bin.path() / "ffmpeg";
+  testing::write(fake, "#!/bin/sh\nfor last; do :; done\ncat > \"$last\"\n");
+  fs::permissions(fake, fs::perms::owner_all);
+  const std::string path = "env PATH=" + testing::quoted(bin.path().string()) + ":\"$PATH\"";
+  const int frames = H5mdReader<2>((run2() / "trajectory.h5md").string()).frames();
+  ASSERT_GT(frames, 1);
+  const testing::Outcome o = testing::run_ballagg(
+      {"render", run2().string(), "--video", out("v.mp4").string(), "--width", "160"}, dir_.path(), path);
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_EQ(o.out, fmt::format("wrote {} ({} frames)\n", out("v.mp4").string(), frames));
+  // Not a terminal: plain lines, the last one when the video is complete.
+  const std::regex last(fmt::format(R"((^|\n)100%  frames {} / {}  [0-9]+\.[0-9] s\n$)", frames, frames));
+  EXPECT_TRUE(std::regex_search(o.err, last)) << o.err;
+  EXPECT_EQ(o.err.find('\r'), std::string::npos) << "a bar redrawn in place, not on a terminal";
+  fs::remove(out("v.mp4"));
+  const testing::Outcome quiet = testing::run_ballagg(
+      {"render", run2().string(), "--video", out("v.mp4").string(), "--width", "160", "-q"}, dir_.path(), path);
+  ASSERT_EQ(quiet.status, 0) << quiet.err;
+  EXPECT_EQ(quiet.err, "");
+  EXPECT_EQ(quiet.out, fmt::format("wrote {} ({} frames)\n", out("v.mp4").string(), frames));
 }
 
 TEST_F(RenderCli, ThreeDPictureAggregateAndPovRayScene) {

@@ -73,6 +73,15 @@ TEST_F(Verify, PassesOnRunsOfEveryEngine) {
   expect_verified(run("ts-almost", {"system.n=150", "engine.kind=\"ts\"", "ts.model=\"almost-rigid\"", "stop.clusters=40"}));
 }
 
+// Runs of drawn radii: the initial mass is the sum over the drawn spheres' masses, not
+// n * system.mass; their box and analysis read back from config.toml.
+TEST_F(Verify, PassesOnPolydisperseRuns) {
+  expect_verified(run("lognormal", {"system.n=300", "system.radius_distribution=\"lognormal\"", "system.radius_sigma=1.5",
+                                    "initial.positions=\"random\""}));
+  expect_verified(run("discrete", {"system.dimension=3", "system.n=200", "system.radius_distribution=\"discrete\"",
+                                   "system.radii=[0.1,0.3]", "system.density=2", "system.boundary=\"periodic\""}));
+}
+
 // Columns of final.csv in 2D: x, y, vx, vy, radius, mass, cluster.
 TEST_F(Verify, CatchesAnOverlap) {
   const std::string dir = run("half", {"system.n=400", "stop.clusters=200"});

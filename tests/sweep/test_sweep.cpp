@@ -7,6 +7,8 @@
 #include <cmath>
 #include <filesystem>
 #include <map>
+#include <regex>
+#include <set>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -253,6 +255,84 @@ TEST(Sweep, ResumeRedoesOnlyTheRunsWithoutSummary) {
   } catch (const InputError& e) {
     EXPECT_CONTAINS(e.what(), "the file this sweep was started with");
   }
+}
+
+// Two variants times two grid values times two realizations: 8 runs of 16 or 25 discs.
+const char* kVariantSweep = R"([sweep]
+realizations = 2
+seed_base = 40
+[grid]
+system.n = [16, 25]
+system.volume_fraction = [0.2]
+[[variants]]
+label = "event driven"
+engine.kind = "ed"
+[[variants]]
+label = "naive"
+engine.kind = "ed-naive"
+)";
+
+TEST(Sweep, RunsCsvHasAColumnPerGridKey) {
+  TempDir dir;
+  run_tiny_sweep(dir / "sweep");
+  const std::string text = slurp(dir / "sweep" / "runs.csv");
+  EXPECT_EQ(text.substr(0, text.find('\n')).rfind("point,system.n,system.volume_fraction,realization,seed,run,stop_reason,"
+                                                   "wall_seconds,", 0), 0u) << text;
+  const auto runs = read_csv(dir / "sweep" / "runs.csv");
+  ASSERT_EQ(runs.size(), 4u);
+  for (const auto& row : runs) {
+    EXPECT_EQ(row.at("system.n"), row.at("point") == "0" ? "16" : "25");
+    EXPECT_EQ(row.at("system.volume_fraction"), "0.2");
+    EXPECT_EQ(row.at("run"), fmt::format("p00{}-r0{}", row.at("point"), row.at("realization")));
+  }
+}
+
+TEST(SweepCli, ProgressLinesNameTheRunItsParametersAndTheTimeLeft) {
+  TempDir dir;
+  const fs::path file = dir.write("variants.toml", kVariantSweep);
+  const auto o = run_ballagg({"sweep", file.string(), "--out", (dir / "s").string(), "--jobs", "2"}, dir.path());
+  ASSERT_EQ(o.status, 0) << o.err;
+  std::vector<std::string> lines;
+  std::istringstream in(o.out);
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  ASSERT_EQ(lines.size(), 10u) << o.out;
+  EXPECT_EQ(lines.front(), "sweep: 8 runs to do, 0 finished already, 2 at once");
+  const std::regex done(R"(sweep: \[(\d)/8\]( (?:about \d+ s|under 1 s) left \(estimate\);)? runs/p00(\d)-r0(\d) \()"
+                        R"((event driven|naive): system\.n = (16|25), system\.volume_fraction = 0\.2\) done)");
+  std::set<std::string> seen;
+  for (int k = 1; k <= 8; ++k) {
+    std::smatch m;
+    ASSERT_TRUE(std::regex_match(lines[k], m, done)) << lines[k];
+    EXPECT_EQ(m[1], std::to_string(k));
+    EXPECT_EQ(m[2].matched, k < 8) << lines[k];  // an estimate while runs are left
+    const int point = std::stoi(m[3]);
+    EXPECT_EQ(m[5], point < 2 ? "event driven" : "naive") << lines[k];
+    EXPECT_EQ(m[6], point % 2 == 0 ? "16" : "25") << lines[k];
+    seen.insert(std::string(m[3]) + m[4].str());
+  }
+  EXPECT_EQ(seen.size(), 8u);
+  EXPECT_EQ(lines.back().rfind("sweep: 8 runs done, 0 already finished, 0 failed; tables in ", 0), 0u);
+  // runs.csv names each run's variant and grid values.
+  const std::string text = slurp(dir / "s" / "runs.csv");
+  EXPECT_EQ(text.rfind("point,variant,system.n,system.volume_fraction,realization,seed,run,stop_reason,", 0), 0u) << text;
+  const auto runs = read_csv(dir / "s" / "runs.csv");
+  ASSERT_EQ(runs.size(), 8u);
+  for (const auto& row : runs) {
+    const int point = std::stoi(row.at("point"));
+    EXPECT_EQ(row.at("variant"), point < 2 ? "event driven" : "naive");
+    EXPECT_EQ(row.at("system.n"), point % 2 == 0 ? "16" : "25");
+    EXPECT_EQ(row.at("seed"), std::to_string(40 + std::stoi(row.at("realization"))));
+  }
+}
+
+TEST(SweepCli, QuietLeavesOnlyTheLastLine) {
+  TempDir dir;
+  const fs::path file = dir.write("tiny.toml", kTinySweep);
+  const auto o = run_ballagg({"sweep", file.string(), "--out", (dir / "s").string(), "-q"}, dir.path());
+  ASSERT_EQ(o.status, 0) << o.err;
+  EXPECT_EQ(o.out, fmt::format("sweep: 4 runs done, 0 already finished, 0 failed; tables in {}\n",
+                               (dir / "s" / "sweep.csv").string()));
+  EXPECT_EQ(o.err, "");
 }
 
 TEST(SweepCli, TwoMpiRanksGiveTheRunsOfOneProcess) {

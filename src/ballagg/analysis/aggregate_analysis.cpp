@@ -111,15 +111,19 @@ void mass_and_energy_totals(AggregateAnalysis<D>& a) {
 
 }  // namespace
 
+double length_unit_of(const std::vector<double>& radii) {
+  const auto [smallest, largest] = std::minmax_element(radii.begin(), radii.end());
+  if (smallest == radii.end()) return std::numeric_limits<double>::quiet_NaN();
+  return *smallest == *largest ? *smallest
+                               : std::accumulate(radii.begin(), radii.end(), 0.0) / static_cast<double>(radii.size());
+}
+
 template <int D>
 AggregateAnalysis<D> analyze_aggregates(const Box<D>& box, const SphereTable<D>& t) {
   AggregateAnalysis<D> a;
   a.box = box;
   a.n_spheres = static_cast<int>(t.radius.size());
-  const auto [smallest, largest_radius] = std::minmax_element(t.radius.begin(), t.radius.end());
-  // Equal radii (the paper's case): R itself, without the round-off of a mean.
-  a.length_unit = *smallest == *largest_radius ? *smallest
-                                               : std::accumulate(t.radius.begin(), t.radius.end(), 0.0) / a.n_spheres;
+  a.length_unit = length_unit_of(t.radius);
   const ClusterPartition partition = partition_clusters(t.cluster, a.n_spheres);
   const UnwrappedClusters<D> unwrapped = unwrap_clusters(box, t.position, t.radius, partition);
 

@@ -94,6 +94,10 @@ struct AggregateAnalysis {
 template <int D>
 AggregateAnalysis<D> analyze_aggregates(const Box<D>& box, const SphereTable<D>& spheres);
 
+// The length unit R of the analysis: the radius when all are equal (the paper's case,
+// without the round-off of a mean), otherwise the mean radius.
+double length_unit_of(const std::vector<double>& radii);
+
 extern template AggregateAnalysis<2> analyze_aggregates<2>(const Box<2>&, const SphereTable<2>&);
 extern template AggregateAnalysis<3> analyze_aggregates<3>(const Box<3>&, const SphereTable<3>&);
 

@@ -14,7 +14,9 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
+#include "ballagg/config/radius_section.hpp"
 #include "ballagg/config/rigid_body_section.hpp"
+#include "ballagg/config/run_continuation.hpp"
 #include "ballagg/config/section_reader.hpp"
 #include "ballagg/config/set_override.hpp"
 #include "ballagg/config/text_file.hpp"
@@ -33,6 +35,7 @@ double rounded_up(double x) {
 // The box and the skin against the radius (value_ranges.hpp). A state file gives its own
 // radii: initial/state_ranges.cpp checks those runs against them.
 void check_length_ratios(const Config& c, SectionReader& sys, SectionReader& eng) {
+  if (polydisperse(c.system) || c.system.density) return check_sampled_radii(c, sys, eng);
   const double radius = c.system.radius, box = resolved_box_length(c);
   if (c.system.box_length && *c.system.box_length > range::kMaxBoxToRadius * radius)
     sys.refuse("box_length", fmt::format("must be at most {:g} times system.radius = {}: positions at a larger box's "
@@ -99,6 +102,7 @@ SystemConfig read_system(SectionReader& sys) {
                              range::kMaxMass));
   if (mass) system_config.mass = *mass;
   if (auto v = sys.choice("boundary", {"walls", "periodic"})) system_config.boundary = static_cast<Boundary>(*v);
+  read_radius_keys(sys, system_config, mass.has_value());
   sys.reject_unknown_keys();
   return system_config;
 }
@@ -114,6 +118,8 @@ InitialConfig read_initial(SectionReader& ini) {
                  fmt::format("must be at most {:g} (choose units in which speeds are near 1)", range::kMaxSpeed));
   if (speed) initial_config.speed = *speed;
   if (auto v = ini.string("file", "must be a file name (a string)")) initial_config.file = *v;
+  if (auto v = ini.real("time", [](double t) { return t >= 0.0; }, "must be a finite number >= 0 (a simulated time)"))
+    initial_config.time = *v;
   if (auto v = ini.boolean("zero_momentum")) initial_config.zero_momentum = *v;
   if (auto v = ini.integer("seed", 0, std::numeric_limits<std::int64_t>::max(), "must be an integer >= 0"))
     initial_config.seed = static_cast<std::uint64_t>(*v);
@@ -168,23 +174,49 @@ OutputConfig read_output(SectionReader& out) {
   return output_config;
 }
 
-// The rules that involve keys of several sections; sets the default volume fraction.
-void check_key_combinations(Config& c, const std::string& source) {
-  const bool from_file = c.initial.positions == InitialPositions::file;
-  if (c.output.snapshot_every > 0.0 && c.output.snapshot_formats.empty())
+// Snapshots need a format; and coalescing spheres leave the run (the number of spheres
+// falls), which trajectory.h5md and trajectory.gsd, written with the first frame's number
+// of particles and their radii, cannot hold.
+void check_snapshot_formats(const Config& c) {
+  if (!(c.output.snapshot_every > 0.0)) return;
+  if (c.output.snapshot_formats.empty())
     throw InputError(fmt::format("{}: output.snapshot_every = {} but output.snapshot_formats is empty "
-                                 "(give \"h5md\", \"xyz\" and/or \"gsd\", or set snapshot_every = 0)", source, c.output.snapshot_every));
+                                 "(give \"h5md\", \"xyz\" and/or \"gsd\", or set snapshot_every = 0)",
+                                 origin_of(c, {"output.snapshot_every", "output.snapshot_formats"}), c.output.snapshot_every));
+  if (c.rigid_body.coagulation != Coagulation::sphere) return;
+  for (SnapshotFormat f : c.output.snapshot_formats)
+    if (f != SnapshotFormat::xyz)
+      throw InputError(fmt::format("{}: output.snapshot_formats = \"{}\" with collision.coagulation = \"sphere\": coalescing "
+                                   "spheres change the number and the radii of the spheres, which trajectory.{} keeps "
+                                   "fixed; use \"xyz\"",
+                                   origin_of(c, {"output.snapshot_formats", "collision.coagulation"}), to_string(f), to_string(f)));
+}
+
+// The rules that involve keys of several sections; sets the default volume fraction.
+void check_key_combinations(Config& c) {
+  const bool from_file = c.initial.positions == InitialPositions::file;
+  check_snapshot_formats(c);
   if (c.engine.kind == EngineKind::ts && c.collision.outcome != CollisionOutcome::stick)
     throw InputError(fmt::format("{}: engine.kind = \"ts\" simulates sticking only: collision.outcome must be \"stick\" "
-                                 "(use engine.kind = \"ed\" for bounces)", source));
+                                 "(use engine.kind = \"ed\" for bounces)", origin_of(c, {"engine.kind", "collision.outcome"})));
   if (c.system.volume_fraction && c.system.box_length)
-    throw InputError(fmt::format("{}: give system.volume_fraction or system.box_length, not both", source));
+    throw InputError(fmt::format("{}: give system.volume_fraction or system.box_length, not both",
+                                 origin_of(c, {"system.volume_fraction", "system.box_length"})));
   if (from_file && c.initial.file.empty())
-    throw InputError(fmt::format("{}: initial.positions = \"file\" needs initial.file", source));
+    throw InputError(fmt::format("{}: initial.positions = \"file\" needs initial.file",
+                                 origin_of(c, {"initial.positions", "initial.file"})));
   if (from_file && !c.system.box_length)
-    throw InputError(fmt::format("{}: initial.positions = \"file\" needs system.box_length (the file gives no box)", source));
+    throw InputError(fmt::format("{}: initial.positions = \"file\" needs system.box_length (a state file gives no box; a "
+                                 "run directory as initial.file gives its own)",
+                                 origin_of(c, {"initial.positions", "initial.file", "system.volume_fraction"})));
   if (!from_file && !c.initial.file.empty())
-    throw InputError(fmt::format("{}: initial.file is only read when initial.positions = \"file\"", source));
+    throw InputError(fmt::format("{}: initial.file is only read when initial.positions = \"file\"",
+                                 origin_of(c, {"initial.positions", "initial.file"})));
+  if (c.stop.time <= c.initial.time)
+    throw InputError(fmt::format("{}: stop.time = {} is not after initial.time = {}, the time the initial state is at{}: "
+                                 "give a later stop.time", origin_of(c, {"stop.time", "initial.time", "initial.file"}),
+                                 c.stop.time, c.initial.time,
+                                 c.initial.positions == InitialPositions::file ? fmt::format(" ({})", c.initial.file) : ""));
   if (!from_file && !c.system.box_length && !c.system.volume_fraction)
     c.system.volume_fraction = kDefaultVolumeFraction;
   if (c.system.volume_fraction) {
@@ -193,20 +225,34 @@ void check_key_combinations(Config& c, const std::string& source) {
                                                    : std::numbers::pi / (3 * std::sqrt(2.0));
     if (*c.system.volume_fraction >= densest)
       throw InputError(fmt::format("{}: system.volume_fraction = {}: no packing of equal {} is that dense (the densest is {:.4f})",
-                                   source, *c.system.volume_fraction, c.system.dimension == 2 ? "discs" : "spheres", densest));
+                                   origin_of(c, {"system.volume_fraction", "system.dimension"}),
+                                   *c.system.volume_fraction, c.system.dimension == 2 ? "discs" : "spheres", densest));
   }
 }
 
-Config read_config(const toml::table& root, const std::string& source, const std::set<std::string>& overridden) {
+// A relative initial.file written in a configuration file is relative to that file's
+// directory (config_dir, given for a file only); one given with --set is relative to the
+// working directory.
+void locate_initial_file(InitialConfig& initial, const std::optional<std::filesystem::path>& config_dir,
+                         const std::set<std::string>& overridden) {
+  const std::filesystem::path file(initial.file);
+  if (config_dir && !initial.file.empty() && !overridden.count("initial.file") && file.is_relative())
+    initial.file = (*config_dir / file).lexically_normal().string();
+}
+
+Config read_config(const toml::table& root, const std::string& source, const std::vector<std::string>& overrides,
+                   const std::set<std::string>& overridden, const std::optional<std::filesystem::path>& config_dir) {
   refuse_unknown_sections(root, source);
   Config c;
   c.source = source;
+  c.set_arguments = overrides;
 
   SectionReader sys(root, "system", source, overridden);
   c.system = read_system(sys);
 
   SectionReader ini(root, "initial", source, overridden);
   c.initial = read_initial(ini);
+  locate_initial_file(c.initial, config_dir, overridden);
 
   SectionReader col(root, "collision", source, overridden);
   if (auto v = col.choice("outcome", {"stick", "bounce", "energy-threshold"}))
@@ -231,17 +277,20 @@ Config read_config(const toml::table& root, const std::string& source, const std
   c.output = read_output(out);
 
   // Rules that involve several keys.
+  continue_from_run_directory(c, sys, ini);
   check_rigid_body_rules(c, rigid_keys, restitution.has_value());
-  check_key_combinations(c, source);
+  check_key_combinations(c);
+  check_radius_key_combinations(c, sys);
   const bool from_file = c.initial.positions == InitialPositions::file;
   if (!from_file) check_length_ratios(c, sys, eng);
   return c;
 }
 
-Config parse_root(toml::table root, const std::string& source, const std::vector<std::string>& overrides) {
+Config parse_root(toml::table root, const std::string& source, const std::vector<std::string>& overrides,
+                  const std::optional<std::filesystem::path>& config_dir) {
   std::set<std::string> overridden;
   for (const std::string& o : overrides) apply_override(root, o, overridden);
-  return read_config(root, source, overridden);
+  return read_config(root, source, overrides, overridden, config_dir);
 }
 
 std::string parse_error_message(const toml::parse_error& e, const std::string& source) {
@@ -271,7 +320,10 @@ void refuse_deeply_dotted_toml(std::string_view text, const std::string& source_
   }
 }
 
-Config parse_config_text(std::string_view text, const std::string& source_name, const std::vector<std::string>& overrides) {
+namespace {
+
+Config parse_text(std::string_view text, const std::string& source_name, const std::vector<std::string>& overrides,
+                  const std::optional<std::filesystem::path>& config_dir) {
   refuse_deeply_dotted_toml(text, source_name);
   toml::table root;
   try {
@@ -279,20 +331,34 @@ Config parse_config_text(std::string_view text, const std::string& source_name, 
   } catch (const toml::parse_error& e) {
     throw InputError(parse_error_message(e, source_name));
   }
-  return parse_root(std::move(root), source_name, overrides);
+  return parse_root(std::move(root), source_name, overrides, config_dir);
+}
+
+}  // namespace
+
+Config parse_config_text(std::string_view text, const std::string& source_name, const std::vector<std::string>& overrides) {
+  return parse_text(text, source_name, overrides, std::nullopt);
 }
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides) {
   if (path.empty()) return parse_config_text("", "(defaults)", overrides);
-  Config c = parse_config_text(read_text_file(path, "config file", kMaxSettingsFileBytes), path, overrides);
-  // A relative initial.file written in a config file is relative to that file; one given
-  // with --set is relative to the working directory.
-  const bool from_set = std::any_of(overrides.begin(), overrides.end(),
-                                    [](const std::string& o) { return o.rfind("initial.file=", 0) == 0; });
-  const std::filesystem::path file(c.initial.file);
-  if (!c.initial.file.empty() && !from_set && file.is_relative())
-    c.initial.file = (std::filesystem::path(path).parent_path() / file).lexically_normal().string();
-  return c;
+  return parse_text(read_text_file(path, "config file", kMaxSettingsFileBytes), path, overrides,
+                    std::filesystem::path(path).parent_path());
+}
+
+std::string origin_of(const Config& c, std::initializer_list<std::string_view> keys) {
+  std::string origin;
+  for (std::size_t k = 0; k < c.set_arguments.size(); ++k) {
+    const std::string& argument = c.set_arguments[k];
+    const std::string_view key = std::string_view(argument).substr(0, argument.find('='));
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) continue;
+    // The last --set of a key is the one that counts.
+    const auto later = c.set_arguments.begin() + static_cast<std::ptrdiff_t>(k) + 1;
+    const bool set_again = std::any_of(later, c.set_arguments.end(),
+                                       [&](const std::string& a) { return a.substr(0, a.find('=')) == key; });
+    if (!set_again) origin += (origin.empty() ? "--set " : " --set ") + argument;
+  }
+  return origin.empty() ? c.source : origin;
 }
 
 void check_stop_clusters(std::int64_t clusters, std::string_view name) {
@@ -307,8 +373,23 @@ double resolved_box_length(const Config& c) {
   if (c.system.box_length) return *c.system.box_length;
   const double n = static_cast<double>(c.system.n), r = c.system.radius;
   const double vf = c.system.volume_fraction.value_or(kDefaultVolumeFraction);
+  if (polydisperse(c.system)) {
+    const double volume = summarize_sampled_radii(c).volume;
+    return c.system.dimension == 2 ? std::sqrt(volume / vf) : std::cbrt(volume / vf);
+  }
   if (c.system.dimension == 2) return std::sqrt(n * std::numbers::pi * r * r / vf);
   return std::cbrt(n * 4.0 / 3.0 * std::numbers::pi * r * r * r / vf);
+}
+
+double sphere_mass(const SystemConfig& s, double r) {
+  if (s.density) return *s.density * sphere_volume(s.dimension, r);
+  if (!polydisperse(s)) return s.mass;
+  return s.mass * std::pow(r / s.radius, s.dimension);
+}
+
+std::string_view to_string(RadiusLaw l) {
+  static constexpr std::string_view names[] = {"monodisperse", "lognormal", "normal", "uniform", "power-law", "discrete"};
+  return names[static_cast<int>(l)];
 }
 
 std::string_view to_string(InitialPositions p) {

@@ -3,6 +3,7 @@
 // embedded defaults), checked key by key, with errors that name the file line or the
 // --set argument and what is allowed.
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <optional>
 #include <string>
@@ -11,6 +12,7 @@
 
 #include "ballagg/core/box.hpp"
 #include "ballagg/core/input_error.hpp"
+#include "ballagg/core/radius_distribution.hpp"
 #include "ballagg/collision/collision_settings.hpp"
 #include "ballagg/engines/rigid_body/rigid_body_settings.hpp"
 #include "ballagg/engines/time_stepping/ts_settings.hpp"
@@ -26,16 +28,19 @@ struct SystemConfig {
   std::int64_t n = 2500;
   std::optional<double> volume_fraction;  // 0.2 when neither this nor box_length is given
   std::optional<double> box_length;
-  double radius = 0.2;
-  double mass = 1.0;
+  double radius = 0.2;  // the radius R_0: of every sphere, or the reference of radius_distribution
+  double mass = 1.0;    // of a sphere of radius R_0; others m_0 (R / R_0)^D
   Boundary boundary = Boundary::walls;
+  RadiusDistribution radius_distribution;  // system.radius_distribution and its parameters
+  std::optional<double> density;           // instead of mass: m = density * sphere volume
 };
 
 struct InitialConfig {
   InitialPositions positions = InitialPositions::lattice;
   InitialVelocities velocities = InitialVelocities::fixed_speed;
   double speed = 1.0;
-  std::string file;
+  std::string file;                  // a state file, or a finished run's directory (resolved to its final.csv)
+  double time = 0.0;                 // the simulated time the initial state is at
   bool zero_momentum = false;
   std::uint64_t seed = 1;
 };
@@ -78,7 +83,13 @@ struct Config {
   OutputConfig output;
   TimeSteppingSettings ts;  // [ts], read always, used when engine.kind = "ts"
   std::string source = "(defaults)";  // where it was read from, for messages
+  std::vector<std::string> set_arguments;  // the --set arguments applied, in order, for messages
 };
+
+// Where the values of `keys` ("section.key") came from, for a message about a rule that
+// involves them: the --set arguments that gave any of them ("--set system.n=400 --set
+// system.volume_fraction=0.6", the last one of each key), or else c.source.
+std::string origin_of(const Config& c, std::initializer_list<std::string_view> keys);
 
 inline constexpr double kDefaultVolumeFraction = 0.2;
 // Default TC time as a fraction of (mean diameter / initial rms speed).
@@ -105,14 +116,31 @@ void check_stop_clusters(std::int64_t clusters, std::string_view name);
 void check_stop_duration(double value, std::string_view name);  // stop.time, stop.wall_seconds
 
 // The box length: given, or from the volume fraction (2D: L = sqrt(N pi R^2 / Vf),
-// 3D: L = cbrt(N 4/3 pi R^3 / Vf)).
+// 3D: L = cbrt(N 4/3 pi R^3 / Vf); polydisperse: L^D = sum of the sampled spheres'
+// volumes / Vf).
 double resolved_box_length(const Config& c);
+
+// The law of the generated spheres' radii is not one radius for all.
+inline bool polydisperse(const SystemConfig& s) { return s.radius_distribution.law != RadiusLaw::monodisperse; }
+// The mass of a generated sphere of radius r: density * sphere_volume(D, r) when
+// system.density is given, else m_0 (r / R_0)^D (m_0 itself for one radius).
+double sphere_mass(const SystemConfig& s, double r);
+
+// The radii a generated start draws (initial/polydisperse_start.hpp), summarized one by
+// one without a list of N radii: extremes, and the sums of volumes and masses in the order
+// drawn.
+struct SampledRadii {
+  double smallest = 0.0, largest = 0.0;
+  double volume = 0.0, mass = 0.0;
+};
+SampledRadii summarize_sampled_radii(const Config& c);
 
 // The configuration as TOML text with every key (the resolved config of a run).
 std::string to_toml_text(const Config& c);
 // The same, as a JSON object text (for summary.json).
 std::string to_json_text(const Config& c);
 
+std::string_view to_string(RadiusLaw l);
 std::string_view to_string(InitialPositions p);
 std::string_view to_string(InitialVelocities v);
 std::string_view to_string(EngineKind k);

@@ -1,4 +1,5 @@
 // The resolved configuration as text: TOML (config.toml) and JSON (summary.json).
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -17,8 +18,24 @@ namespace {
 
 // The resolved configuration as ordered sections of (key, value), the single source of
 // both the TOML and the JSON rendering.
-using Value = std::variant<std::int64_t, double, bool, std::string, std::vector<std::string>>;
+using Value = std::variant<std::int64_t, double, bool, std::string, std::vector<std::string>, std::vector<double>>;
 using Section = std::pair<std::string, std::vector<std::pair<std::string, Value>>>;
+
+// The radius law and the parameters it reads, written for polydisperse runs only (the
+// configuration files of runs with one radius stay as they were).
+void add_radius_distribution(const SystemConfig& s, std::vector<std::pair<std::string, Value>>& keys) {
+  const RadiusDistribution& d = s.radius_distribution;
+  if (!polydisperse(s)) return;
+  keys.push_back({"radius_distribution", std::string(to_string(d.law))});
+  if (d.law == RadiusLaw::lognormal || d.law == RadiusLaw::normal) keys.push_back({"radius_sigma", d.sigma});
+  if (d.min > 0.0) keys.push_back({"radius_min", d.min});
+  if (!std::isinf(d.max)) keys.push_back({"radius_max", d.max});
+  if (d.law == RadiusLaw::power_law) keys.push_back({"radius_exponent", d.exponent});
+  if (d.law == RadiusLaw::discrete) {
+    keys.push_back({"radii", d.radii});
+    if (!d.weights.empty()) keys.push_back({"radius_weights", d.weights});
+  }
+}
 
 std::vector<Section> entries(const Config& c) {
   auto str = [](std::string_view v) { return Value(std::string(v)); };
@@ -26,13 +43,17 @@ std::vector<Section> entries(const Config& c) {
   if (c.system.volume_fraction) system.second.push_back({"volume_fraction", *c.system.volume_fraction});
   if (c.system.box_length) system.second.push_back({"box_length", *c.system.box_length});
   system.second.push_back({"radius", c.system.radius});
-  system.second.push_back({"mass", c.system.mass});
+  add_radius_distribution(c.system, system.second);
+  if (c.system.density) system.second.push_back({"density", *c.system.density});
+  else system.second.push_back({"mass", c.system.mass});
   system.second.push_back({"boundary", str(to_string(c.system.boundary))});
   Section initial{"initial",
                   {{"positions", str(to_string(c.initial.positions))},
                    {"velocities", str(to_string(c.initial.velocities))},
                    {"speed", c.initial.speed}}};
   if (!c.initial.file.empty()) initial.second.push_back({"file", c.initial.file});
+  // Written when the clock does not start at 0 only: other runs' files stay as they were.
+  if (c.initial.time != 0.0) initial.second.push_back({"time", c.initial.time});
   initial.second.push_back({"zero_momentum", c.initial.zero_momentum});
   initial.second.push_back({"seed", static_cast<std::int64_t>(c.initial.seed)});
   Section collision{"collision", {{"outcome", str(to_string(c.collision.outcome))}, {"restitution", c.collision.restitution}}};
@@ -104,6 +125,11 @@ std::string toml_value(const Value& v) {
     std::string text = fmt::format("{}", *d);  // shortest form that reads back exactly
     if (text.find_first_of(".e") == std::string::npos) text += ".0";
     return text;
+  }
+  if (auto numbers = std::get_if<std::vector<double>>(&v)) {
+    std::string text = "[";
+    for (double x : *numbers) text += (text.size() > 1 ? ", " : "") + toml_value(x);
+    return text + "]";
   }
   if (auto list = std::get_if<std::vector<std::string>>(&v)) {
     std::string text = "[";

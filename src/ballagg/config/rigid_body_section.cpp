@@ -45,43 +45,47 @@ std::vector<std::string> read_rigid_body_keys(SectionReader& col, RigidBodyLaw& 
 
 // Rules between the rigid-body keys and the rest.
 void check_rigid_body_rules(const Config& c, const std::vector<std::string>& given, bool restitution_given) {
-  const std::string& source = c.source;
   const RigidBodyLaw& k = c.rigid_body;
   const CollisionOutcome outcome = c.collision.outcome;
   auto has = [&](const char* key) { return std::find(given.begin(), given.end(), key) != given.end(); };
   if (c.engine.kind != EngineKind::rigid_body) {
     if (!given.empty())
       throw InputError(fmt::format("{}: collision.{} is a key of the rigid-body engine: it needs engine.kind = "
-                                   "\"rigid-body\"", source, given.front()));
+                                   "\"rigid-body\"", origin_of(c, {"engine.kind", "collision." + given.front()}), given.front()));
     if (outcome == CollisionOutcome::energy_threshold)
       throw InputError(fmt::format("{}: collision.outcome = \"energy-threshold\" needs engine.kind = \"rigid-body\"",
-                                   source));
+                                   origin_of(c, {"engine.kind", "collision.outcome"})));
     if (c.stop.aggregated_fraction)
-      throw InputError(fmt::format("{}: stop.aggregated_fraction needs engine.kind = \"rigid-body\"", source));
+      throw InputError(fmt::format("{}: stop.aggregated_fraction needs engine.kind = \"rigid-body\"",
+                                   origin_of(c, {"engine.kind", "stop.aggregated_fraction"})));
     return;
   }
   if (has("energy_threshold") && outcome != CollisionOutcome::energy_threshold)
     throw InputError(fmt::format("{}: collision.energy_threshold is only used with collision.outcome = "
-                                 "\"energy-threshold\"", source));
+                                 "\"energy-threshold\"", origin_of(c, {"collision.energy_threshold", "collision.outcome"})));
   if (k.coagulation != Coagulation::sphere) {
     for (const char* key : {"merged_radius", "constant_speed"})
       if (has(key))
-        throw InputError(fmt::format("{}: collision.{} is only used with collision.coagulation = \"sphere\"", source, key));
+        throw InputError(fmt::format("{}: collision.{} is only used with collision.coagulation = \"sphere\"",
+                                     origin_of(c, {"collision.coagulation", "collision." + std::string(key)}), key));
   } else if (k.fragmentation_energy) {
     throw InputError(fmt::format("{}: collision.fragmentation_energy breaks aggregates up: it needs "
-                                 "collision.coagulation = \"aggregate\"", source));
+                                 "collision.coagulation = \"aggregate\"",
+                                 origin_of(c, {"collision.fragmentation_energy", "collision.coagulation"})));
   }
   if (k.constant_speed && c.initial.velocities != InitialVelocities::fixed_speed)
     throw InputError(fmt::format("{}: collision.constant_speed keeps every speed at initial.speed: it needs "
-                                 "initial.velocities = \"fixed-speed\"", source));
+                                 "initial.velocities = \"fixed-speed\"",
+                                 origin_of(c, {"collision.constant_speed", "initial.velocities"})));
   if (k.restitution_law == RestitutionLaw::bridges && restitution_given)
     throw InputError(fmt::format("{}: give collision.restitution (a constant) or collision.restitution_law = "
-                                 "\"bridges\", not both", source));
+                                 "\"bridges\", not both", origin_of(c, {"collision.restitution", "collision.restitution_law"})));
   if (has("velocity_unit") && k.restitution_law != RestitutionLaw::bridges)
     throw InputError(fmt::format("{}: collision.velocity_unit is only used with collision.restitution_law = "
-                                 "\"bridges\"", source));
+                                 "\"bridges\"", origin_of(c, {"collision.velocity_unit", "collision.restitution_law"})));
   if (c.system.dimension == 2 && k.mu_p != 0.0)
-    throw InputError(fmt::format("{}: collision.mu_p = {}: in 2D the contact has one tangent (use mu_t)", source, k.mu_p));
+    throw InputError(fmt::format("{}: collision.mu_p = {}: in 2D the contact has one tangent (use mu_t)",
+                                 origin_of(c, {"collision.mu_p", "system.dimension"}), k.mu_p));
 }
 
 }  // namespace ballagg

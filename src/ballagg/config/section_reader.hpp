@@ -1,6 +1,7 @@
 #pragma once
 // The reader of one section of a configuration's TOML document, shared by the readers of
 // the sections (config.cpp, ts_section.cpp, rigid_body_section.cpp).
+#include <cmath>
 #include <cstdint>
 #include <functional>
 #include <initializer_list>
@@ -61,6 +62,30 @@ class SectionReader {
     if (!v || std::isnan(*v) || (std::isinf(*v) && !(allow_infinite && *v > 0)) || !ok(*v))
       fail(*node, key, allowed);
     return v;
+  }
+
+  // A list of 1 to max_count finite numbers (a TOML array, or one number for a list of
+  // one), each accepted by `ok`.
+  std::optional<std::vector<double>> reals(const std::string& key, const std::function<bool(double)>& ok,
+                                           std::size_t max_count, const std::string& allowed) {
+    const toml::node* node = find(key);
+    if (node == nullptr) return std::nullopt;
+    std::vector<const toml::node*> items;
+    if (const toml::array* a = node->as_array()) {
+      for (const toml::node& item : *a) items.push_back(&item);
+    } else {
+      items.push_back(node);
+    }
+    if (items.empty() || items.size() > max_count) fail(*node, key, allowed);
+    std::vector<double> values;
+    for (const toml::node* item : items) {
+      std::optional<double> v;
+      if (auto d = item->value_exact<double>()) v = *d;
+      else if (auto i = item->value_exact<std::int64_t>()) v = static_cast<double>(*i);
+      if (!v || !std::isfinite(*v) || !ok(*v)) fail(*node, key, allowed);
+      values.push_back(*v);
+    }
+    return values;
   }
 
   std::optional<bool> boolean(const std::string& key) {
@@ -127,6 +152,9 @@ class SectionReader {
       }
     }
   }
+
+  // Whether the section gives `key` (in the file or with --set; which counts as asked for).
+  bool has(const std::string& key) { return find(key) != nullptr; }
 
   // Refuses the value given for `key` (a rule that involves other keys too).
   [[noreturn]] void refuse(const std::string& key, const std::string& allowed) { fail(*find(key), key, allowed); }

@@ -55,9 +55,13 @@ TimeSteppingSettings read_ts_section(const toml::table& root, const std::string&
   if (auto v = ts.integer("stall_iterations", 0, 100'000'000, "must be an integer from 0 (off) to 100000000"))
     d.stall_iterations = static_cast<int>(*v);
   ts.reject_unknown_keys();
-  if (d.c_min > d.c_max)
+  if (d.c_min > d.c_max) {
+    // Named by the --set that gave one of them, if one did.
+    const std::string origin = overridden.count("ts.c_max") ? "--set ts.c_max"
+                               : overridden.count("ts.c_min") ? "--set ts.c_min" : source;
     throw InputError(fmt::format("{}: ts.c_min = {} is larger than ts.c_max = {}: the damping bounds must satisfy c_min <= c_max",
-                                 source, d.c_min, d.c_max));
+                                 origin, d.c_min, d.c_max));
+  }
   return t;
 }
 

@@ -16,9 +16,9 @@ using Clock = std::chrono::steady_clock;
 
 std::atomic<int> pinned_teams{0};
 
-// A run's end reads the threads' waits (some 40-60 us with a few threads: /proc) only after
-// this much running since the last reading. A shorter run followed by another within
-// kTeamSampleSeconds is measured together with it, the time between them counted as
+// A run's end reads the threads' waits (tens of microseconds: a /proc file per thread)
+// only after this much running since the last reading. A shorter run followed by another
+// within kTeamSampleSeconds is measured together with it, the time between them counted as
 // running: a loop of short runs (the Python module's `sim.run` calls) then reads the waits
 // once a sample, not twice a run.
 constexpr double kTeamReadAtRunEndSeconds = 0.002;

@@ -53,9 +53,9 @@ class PairIndex {
     }
   }
 
-  // Room for `n` entries without growing (a rehash per doubling as a set of a million
-  // pairs is filled was a fifth of the serial part of the detection at N = 10^6).
-  // Grown at once to the size needed: growing by doublings from an emptied table filled
+  // Room for `n` entries without growing (rehashing at each doubling while a large set is
+  // filled would weigh on the serial part of the detection).
+  // Grown at once to the size needed: growing by doublings from an emptied table would fill
   // every intermediate table too (twice the memory written, each page faulted in afresh).
   void reserve(std::size_t n) {
     std::size_t capacity = capacity_ == 0 ? kMinCapacity : capacity_;

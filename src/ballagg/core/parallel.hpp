@@ -12,8 +12,8 @@ namespace ballagg {
 
 // Loops over fewer items than this run on one thread. Opening a parallel region costs a
 // few microseconds when every core is free, but up to a scheduler time slice (milliseconds)
-// when another process holds a core: the region waits for its last thread. A test of 400
-// discs ran 10 times slower on two threads than on one while a run used the other core.
+// when another process holds a core: the region waits for its last thread. A small loop
+// gains less from a second thread than that wait can cost.
 inline constexpr std::int64_t kParallelLoopMin = 4096;
 
 inline int max_threads() {

@@ -16,6 +16,7 @@ namespace ballagg {
 enum class RandomPurpose : std::uint64_t {
   positions = 1,
   velocities = 2,
+  radii = 3,
 };
 
 class Random {

@@ -3,12 +3,12 @@
 // this process waited for a CPU. A parallel region ends when its last thread does, and the
 // engines open many short regions per step: when another process holds a core, a team as
 // large as the cores runs each region at the pace of a thread that waits a scheduler time
-// slice for its turn (a time-stepping run of 10^4 discs on two cores took 0.50 s on two
-// threads beside one busy process, 0.24 s on one thread: docs/performance.md). The rule
-// gives threads up while its threads wait for CPUs, one per core's worth waited, and tries
-// the full team again after a while, waiting longer after each try that fails, so that a
-// run takes back the cores soon after they are free, at a bounded cost while they are not. Thread counts never change
-// results (docs/time_stepping.md#threads), so the team may change between any two regions.
+// slice for its turn, and fewer threads finish sooner (docs/performance.md, "On a shared
+// machine"). The rule gives threads up while its threads wait for CPUs, one per core's
+// worth waited, and tries the full team again after a while, waiting longer after each try
+// that fails, so that a run takes back the cores soon after they are free, at a bounded
+// cost while they are not. Thread counts never change results
+// (docs/time_stepping.md#threads), so the team may change between any two regions.
 #include <algorithm>
 #include <cmath>
 
@@ -19,8 +19,9 @@ namespace ballagg {
 // core is noticed before it has lost much.
 inline constexpr double kTeamSampleSeconds = 0.02;
 // The team shrinks when its threads waited, together, at least this many cores' worth of
-// the sample (waiting time / wall time). Over a run of 10^4 discs on two cores, two threads
-// waited 0.51 cores beside one busy process and 0.04 alone; one thread 0.05 and 0.01.
+// the sample (waiting time / wall time): a team beside a busy process waits about half a
+// core's worth, one alone a few hundredths (docs/performance.md, "On a shared machine"),
+// and the threshold lies well between.
 inline constexpr double kTeamWaitingToShrink = 0.25;
 // After the team shrank, the full team is tried again this long after (seconds)...
 inline constexpr double kFirstTeamRetrySeconds = 0.25;

@@ -12,6 +12,8 @@
 
 #include "ballagg/core/random.hpp"
 #include "ballagg/core/tolerances.hpp"
+#include "ballagg/initial/polydisperse_start.hpp"
+#include "ballagg/initial/space_filling_curve.hpp"
 #include "ballagg/initial/sphere_layout_check.hpp"
 #include "ballagg/initial/state_ranges.hpp"
 #include "ballagg/io/state_csv.hpp"
@@ -22,6 +24,13 @@ namespace {
 
 // Random sequential addition gives up on a sphere after this many rejected tries.
 constexpr int kMaxPlacementTries = 100000;
+
+// Where the keys that decide whether generated spheres fit came from (the --set
+// arguments among them, or the configuration file), for the message when they do not.
+std::string placement_origin(const Config& c) {
+  return origin_of(c, {"system.dimension", "system.n", "system.volume_fraction", "system.box_length", "system.radius",
+                       "system.boundary", "initial.positions"});
+}
 
 std::string fmt_vec(const auto& v) {
   std::string s = "(";
@@ -34,32 +43,12 @@ std::string where(const auto& table, int sphere) {
   return fmt::format("{}:{}", table.source, table.line[sphere]);
 }
 
-// Interleaves the bits of cell coordinates (Z-order): cells close in space get close
-// numbers, so spheres numbered in this order are close in memory too.
-template <int D>
-std::uint64_t morton_key(const std::array<std::uint32_t, D>& cell) {
-  std::uint64_t key = 0;
-  for (int bit = 0; bit < 64 / D; ++bit)
-    for (int a = 0; a < D; ++a) key |= static_cast<std::uint64_t>((cell[a] >> bit) & 1u) << (bit * D + a);
-  return key;
-}
-
-// Generated spheres (lattice or random) are numbered along a Z-order curve rather than in
-// the order they were placed: their numbering carries no meaning, and neighbours that sit
-// close in memory make the engine much less bound by cache misses (docs/performance.md).
+// Generated spheres are numbered along a Z-order curve (space_filling_curve.hpp).
 template <int D>
 void number_along_space_filling_curve(std::vector<Vec<D>>& x, const Box<D>& box) {
-  const auto side = static_cast<std::uint32_t>(std::max(1.0, std::ceil(std::pow(static_cast<double>(x.size()), 1.0 / D))));
-  std::vector<std::pair<std::uint64_t, std::size_t>> order(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    std::array<std::uint32_t, D> cell;
-    for (int a = 0; a < D; ++a)
-      cell[a] = std::min(side - 1, static_cast<std::uint32_t>(std::max(0.0, x[i][a] / box.length * side)));
-    order[i] = {morton_key<D>(cell), i};
-  }
-  std::sort(order.begin(), order.end());
-  std::vector<Vec<D>> sorted(x.size());
-  for (std::size_t k = 0; k < x.size(); ++k) sorted[k] = x[order[k].second];
+  std::vector<Vec<D>> sorted;
+  sorted.reserve(x.size());
+  for (std::size_t i : z_order<D>(x, box)) sorted.push_back(x[i]);
   x.swap(sorted);
 }
 
@@ -75,7 +64,7 @@ std::vector<Vec<D>> lattice_positions(const Config& c, const Box<D>& box) {
     throw InputError(fmt::format(
         "{}: initial.positions = \"lattice\": {} spheres need a {}-per-side lattice whose spacing {:.6g} is not larger "
         "than the diameter {:.6g}; lower system.volume_fraction below {:.4f} (or the radius), or enlarge the box",
-        c.source, n, side, spacing, 2.0 * c.system.radius, max_vf));
+        placement_origin(c), n, side, spacing, 2.0 * c.system.radius, max_vf));
   }
   std::vector<Vec<D>> x(n);
   for (std::int64_t k = 0; k < n; ++k) {
@@ -94,7 +83,8 @@ std::vector<Vec<D>> random_positions(const Config& c, const Box<D>& box) {
   const std::int64_t n = c.system.n;
   const double r = c.system.radius;
   if (!box.periodic() && box.length <= 2.0 * r)
-    throw InputError(fmt::format("{}: the box length {:.6g} is not larger than a sphere's diameter {:.6g}", c.source,
+    throw InputError(fmt::format("{}: the box length {:.6g} is not larger than a sphere's diameter {:.6g}",
+                                 placement_origin(c),
                                  box.length, 2.0 * r));
   Random rng(c.initial.seed, RandomPurpose::positions);
   CellGrid<D> grid(box, 2.0 * r, static_cast<int>(n));
@@ -118,7 +108,7 @@ std::vector<Vec<D>> random_positions(const Config& c, const Box<D>& box) {
             "{}: initial.positions = \"random\": sphere {} of {} found no free place in {} tries; the volume fraction "
             "is too high for random placement (random sequential addition jams near {}), use initial.positions = "
             "\"lattice\" or a lower system.volume_fraction",
-            c.source, k + 1, n, kMaxPlacementTries, D == 2 ? "0.547 in 2D" : "0.38 in 3D"));
+            placement_origin(c), k + 1, n, kMaxPlacementTries, D == 2 ? "0.547 in 2D" : "0.38 in 3D"));
       }
     }
   }
@@ -225,21 +215,13 @@ void put_centres_of_mass_in_box(State<D>& s) {
   }
 }
 
-}  // namespace
-
+// Folds the spheres into a periodic box, or checks that they fit between the walls.
 template <int D>
-State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table_in) {
-  SphereTable<D> t = table_in;
-  const int n = static_cast<int>(t.radius.size());
-  double max_radius = 0.0, max_speed = 0.0;
-  for (int i = 0; i < n; ++i) {
-    max_radius = std::max(max_radius, t.radius[i]);
-    max_speed = std::max(max_speed, t.velocity[i].norm());
-  }
+void put_spheres_in_box(const Box<D>& box, SphereTable<D>& t, double max_radius) {
   if (box.periodic() && box.length <= 4.0 * max_radius)
     throw InputError(fmt::format("system.box_length = {}: a periodic box must be longer than 4 times the largest "
                                  "radius ({}) so that each pair has one nearest image", box.length, max_radius));
-  for (int i = 0; i < n; ++i) {
+  for (int i = 0; i < static_cast<int>(t.radius.size()); ++i) {
     if (box.periodic()) {
       t.position[i] = box.wrap(t.position[i]);
       continue;
@@ -251,10 +233,11 @@ State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table_in) {
                                      where(t, i), fmt_vec(t.position[i]), t.radius[i], box.length));
     }
   }
+}
 
-  CellGrid<D> grid(box, 2.0 * max_radius, n);
-  for (int i = 0; i < n; ++i) grid.insert(i, t.position[i]);
-  for (int i = 0; i < n; ++i) {
+template <int D>
+void refuse_overlaps(const Box<D>& box, const SphereTable<D>& t, const CellGrid<D>& grid) {
+  for (int i = 0; i < static_cast<int>(t.radius.size()); ++i) {
     grid.for_each_near(t.position[i], [&](int j, const Vec<D>&) {
       if (j <= i) return;
       // Spheres of one glued cluster never collide with each other: overlaps between
@@ -269,37 +252,47 @@ State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table_in) {
       }
     });
   }
+}
 
-  // Clusters: one per distinct label, numbered in order of first appearance.
-  std::vector<int> label(n);
-  std::vector<std::vector<int>> members;
+// The clusters of the table: one per distinct label, numbered in order of first appearance
+// (every sphere its own cluster when the table has no cluster column).
+struct ClusterLabels {
+  std::vector<int> label;                 // per sphere
+  std::vector<std::vector<int>> members;  // per cluster, in table order
+};
+
+template <int D>
+ClusterLabels cluster_labels(const SphereTable<D>& t) {
+  const int n = static_cast<int>(t.radius.size());
+  ClusterLabels c;
+  c.label.resize(n);
   if (t.cluster.empty()) {
-    for (int i = 0; i < n; ++i) { label[i] = i; members.push_back({i}); }
-  } else {
-    std::map<std::int64_t, int> id;
-    for (int i = 0; i < n; ++i) {
-      auto [it, fresh] = id.emplace(t.cluster[i], static_cast<int>(members.size()));
-      if (fresh) members.emplace_back();
-      label[i] = it->second;
-      members[it->second].push_back(i);
-    }
+    for (int i = 0; i < n; ++i) { c.label[i] = i; c.members.push_back({i}); }
+    return c;
   }
-  const std::vector<Vec<D>> offset = unwrapped_offsets(box, t, label, members, grid);
+  std::map<std::int64_t, int> id;
+  for (int i = 0; i < n; ++i) {
+    auto [it, fresh] = id.emplace(t.cluster[i], static_cast<int>(c.members.size()));
+    if (fresh) c.members.emplace_back();
+    c.label[i] = it->second;
+    c.members[it->second].push_back(i);
+  }
+  return c;
+}
 
-  State<D> s;
-  s.box = box;
-  s.spheres.offset = body_positions(box, t, members, offset);
-  s.spheres.radius = t.radius;
-  s.spheres.mass = t.mass;
-  s.spheres.cluster.assign(label.begin(), label.end());
+// Each cluster's members and velocity. Glued spheres written by ballagg share one velocity
+// exactly: it is kept bit for bit. Others (equal within kGluedVelocity of the fastest
+// sphere's speed) move with their mass-weighted mean.
+template <int D>
+void set_cluster_motions(State<D>& s, const SphereTable<D>& t, const std::vector<std::vector<int>>& members) {
+  double max_speed = 0.0;
+  for (const Vec<D>& v : t.velocity) max_speed = std::max(max_speed, v.norm());
   s.clusters.resize(members.size());
   for (std::size_t c = 0; c < members.size(); ++c) {
     Cluster<D>& k = s.clusters[c];
     const int root = members[c].front();
     k.members.assign(members[c].begin(), members[c].end());
     k.anchor = Vec<D>::Zero();
-    // Glued spheres written by ballagg share one velocity exactly: keep it bit for bit.
-    // Others (equal within kGluedVelocity) move with their mass-weighted mean.
     Vec<D> momentum = Vec<D>::Zero();
     double mass = 0.0;
     bool identical = true;
@@ -317,59 +310,133 @@ State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table_in) {
       }
     }
   }
-  if (!t.spin.empty()) {
-    // Spin columns: each cluster spins as its first sphere says; the others must agree.
-    double max_spin = 0.0;
-    for (const Spin<D>& w : t.spin) max_spin = std::max(max_spin, w.norm());
-    s.spin.resize(members.size());
-    for (std::size_t c = 0; c < members.size(); ++c) {
-      const int root = members[c].front();
-      s.spin[c].angular_velocity = t.spin[root];
-      for (int i : members[c])
-        if ((t.spin[i] - t.spin[root]).norm() > tolerance::kGluedVelocity * max_spin)
-          throw InputError(fmt::format("{}: spin {} differs from {} of the first sphere of its cluster ({}); "
-                                       "spheres glued into one cluster must spin together",
-                                       where(t, i), fmt_vec(t.spin[i]), fmt_vec(t.spin[root]), where(t, root)));
-    }
+}
+
+// Spin columns: each cluster spins as its first sphere says; the others must agree.
+template <int D>
+void set_cluster_spins(State<D>& s, const SphereTable<D>& t, const std::vector<std::vector<int>>& members) {
+  if (t.spin.empty()) return;
+  double max_spin = 0.0;
+  for (const Spin<D>& w : t.spin) max_spin = std::max(max_spin, w.norm());
+  s.spin.resize(members.size());
+  for (std::size_t c = 0; c < members.size(); ++c) {
+    const int root = members[c].front();
+    s.spin[c].angular_velocity = t.spin[root];
+    for (int i : members[c])
+      if ((t.spin[i] - t.spin[root]).norm() > tolerance::kGluedVelocity * max_spin)
+        throw InputError(fmt::format("{}: spin {} differs from {} of the first sphere of its cluster ({}); "
+                                     "spheres glued into one cluster must spin together",
+                                     where(t, i), fmt_vec(t.spin[i]), fmt_vec(t.spin[root]), where(t, root)));
   }
+}
+
+}  // namespace
+
+template <int D>
+State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table_in) {
+  SphereTable<D> t = table_in;
+  const int n = static_cast<int>(t.radius.size());
+  const double max_radius = t.radius.empty() ? 0.0 : *std::max_element(t.radius.begin(), t.radius.end());
+  put_spheres_in_box(box, t, max_radius);
+  CellGrid<D> grid(box, 2.0 * max_radius, n);
+  for (int i = 0; i < n; ++i) grid.insert(i, t.position[i]);
+  refuse_overlaps(box, t, grid);
+
+  const ClusterLabels clusters = cluster_labels(t);
+  const std::vector<Vec<D>> offset = unwrapped_offsets(box, t, clusters.label, clusters.members, grid);
+  State<D> s;
+  s.box = box;
+  s.spheres.offset = body_positions(box, t, clusters.members, offset);
+  s.spheres.radius = t.radius;
+  s.spheres.mass = t.mass;
+  s.spheres.cluster.assign(clusters.label.begin(), clusters.label.end());
+  set_cluster_motions(s, t, clusters.members);
+  set_cluster_spins(s, t, clusters.members);
   s.finalize();
   return s;
 }
 
+namespace {
+
+// The spheres generated from the configuration: on a lattice or at random, of one radius
+// or drawn from system.radius_distribution.
 template <int D>
-State<D> make_initial_state(const Config& c) {
-  Box<D> box{resolved_box_length(c), c.system.boundary};
+SphereTable<D> generated_spheres(const Config& c, const Box<D>& box) {
   SphereTable<D> table;
-  if (c.initial.positions == InitialPositions::file) {
-    table = read_state_csv<D>(c.initial.file);
-    check_state_ranges(table, box, c);
+  if (polydisperse(c.system)) {
+    table = sized_spheres<D>(c, box);
   } else {
     table.position = c.initial.positions == InitialPositions::lattice ? lattice_positions<D>(c, box)
                                                                       : random_positions<D>(c, box);
-    table.velocity = random_velocities<D>(c, c.system.n);
     table.radius.assign(c.system.n, c.system.radius);
-    table.mass.assign(c.system.n, c.system.mass);
+    table.mass.assign(c.system.n, sphere_mass(c.system, c.system.radius));
   }
-  State<D> s = assemble_state(box, table);
-  if (c.initial.positions == InitialPositions::file) check_sphere_layout(box, table, layout_tolerance(c));
-  if (c.engine.kind != EngineKind::rigid_body) {
-    for (std::size_t i = 0; i < table.spin.size(); ++i)
-      if (table.spin[i] != Spin<D>::Zero())
-        throw InputError(fmt::format("{}: the sphere spins ({}), but engine.kind = \"{}\" does not rotate clusters: "
-                                     "use engine.kind = \"rigid-body\" or set the spin columns to 0",
-                                     where(table, static_cast<int>(i)), fmt_vec(table.spin[i]), to_string(c.engine.kind)));
-    s.spin.clear();
-  }
-  if (c.initial.zero_momentum) {
-    const Vec<D> mean = s.momentum() / s.total_mass();
-    for (int k = 0; k < static_cast<int>(s.clusters.size()); ++k)
-      if (s.clusters[k].alive()) s.set_velocity(k, s.clusters[k].velocity - mean, 0.0);
-  }
+  table.velocity = random_velocities<D>(c, c.system.n);
+  return table;
+}
+
+// Only the rigid-body engine rotates clusters: spins of a state file are refused for the
+// others unless zero.
+template <int D>
+void keep_spins_for_rigid_bodies(State<D>& s, const SphereTable<D>& table, const Config& c) {
+  if (c.engine.kind == EngineKind::rigid_body) return;
+  for (std::size_t i = 0; i < table.spin.size(); ++i)
+    if (table.spin[i] != Spin<D>::Zero())
+      throw InputError(fmt::format("{}: the sphere spins ({}), but engine.kind = \"{}\" does not rotate clusters: "
+                                   "use engine.kind = \"rigid-body\" or set the spin columns to 0",
+                                   where(table, static_cast<int>(i)), fmt_vec(table.spin[i]), to_string(c.engine.kind)));
+  s.spin.clear();
+}
+
+template <int D>
+void subtract_mean_velocity(State<D>& s) {
+  const Vec<D> mean = s.momentum() / s.total_mass();
+  for (int k = 0; k < static_cast<int>(s.clusters.size()); ++k)
+    if (s.clusters[k].alive()) s.set_velocity(k, s.clusters[k].velocity - mean, s.time);
+}
+
+// The state's positions are those at time t (initial.time): every cluster is anchored
+// there, and the clock reads t.
+template <int D>
+void start_clock_at(State<D>& s, double t) {
+  for (Cluster<D>& k : s.clusters) k.anchor_time = t;
+  s.time = t;
+}
+
+// What every initial state gets once its spheres are assembled: spins only for the engine
+// that rotates clusters, initial.zero_momentum, the rigid-body engine's centres of mass,
+// and the clock at initial.time.
+template <int D>
+State<D> finish_initial_state(const Config& c, State<D> s, const SphereTable<D>& table) {
+  keep_spins_for_rigid_bodies(s, table, c);
+  if (c.initial.zero_momentum) subtract_mean_velocity(s);
   if (c.engine.kind == EngineKind::rigid_body) put_centres_of_mass_in_box(s);
+  start_clock_at(s, c.initial.time);
   return s;
 }
 
+}  // namespace
+
+template <int D>
+State<D> make_initial_state(const Config& c) {
+  if (c.initial.positions == InitialPositions::file) return state_from_spheres<D>(c, read_state_csv<D>(c.initial.file));
+  const Box<D> box{resolved_box_length(c), c.system.boundary};
+  const SphereTable<D> table = generated_spheres<D>(c, box);
+  return finish_initial_state(c, assemble_state(box, table), table);
+}
+
+template <int D>
+State<D> state_from_spheres(const Config& c, const SphereTable<D>& table) {
+  Box<D> box{resolved_box_length(c), c.system.boundary};
+  check_state_ranges(table, box, c);
+  State<D> s = assemble_state(box, table);
+  check_sphere_layout(box, table, layout_tolerance(c));
+  return finish_initial_state(c, std::move(s), table);
+}
+
 template State<2> make_initial_state<2>(const Config&);
+template State<2> state_from_spheres<2>(const Config&, const SphereTable<2>&);
+template State<3> state_from_spheres<3>(const Config&, const SphereTable<3>&);
 template State<3> make_initial_state<3>(const Config&);
 template State<2> assemble_state<2>(const Box<2>&, const SphereTable<2>&);
 template State<3> assemble_state<3>(const Box<3>&, const SphereTable<3>&);

@@ -12,6 +12,13 @@ namespace ballagg {
 template <int D>
 State<D> make_initial_state(const Config& config);
 
+// The state at t = 0 from given spheres in the configuration's box, checked as a state file
+// (initial.file) is: value ranges, overlaps, glued clusters that touch and move together,
+// spins; then initial.zero_momentum. A table without file lines (Python's arrays) names a
+// sphere by its index in the arrays.
+template <int D>
+State<D> state_from_spheres(const Config& config, const SphereTable<D>& table);
+
 // Builds a state from explicit spheres (positions are folded into a periodic box; spheres
 // with equal table.cluster values are glued into rigid clusters). Checks that spheres fit
 // in the box, do not overlap, and that glued spheres share a velocity.

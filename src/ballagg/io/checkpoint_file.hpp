@@ -23,8 +23,8 @@ namespace ballagg {
 inline constexpr std::uint32_t kCheckpointFormat = 2;
 inline constexpr const char* kCheckpointFile = "checkpoint.bin";
 // The largest checkpoint read (docs/checkpoints.md): 10^8 spheres at 2 KiB each, above
-// the most a sphere was measured to take (rigid-body: 1.2 kB; ed: 300 bytes). A file that
-// is not a regular file, or is larger, is refused before it is read.
+// what a sphere takes in any engine's checkpoint (the rigid-body engine's, with its bodies,
+// the most). A file that is not a regular file, or is larger, is refused before it is read.
 inline constexpr std::uint64_t kMaxCheckpointBytes = std::uint64_t{256} << 30;  // 256 GiB
 
 struct Checkpoint {

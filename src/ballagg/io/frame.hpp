@@ -48,9 +48,9 @@ Particles<D> particles_of(const State<D>& s);
 
 // The sphere layout of a frame (State::spheres' offsets and cluster ids), at one
 // State::layout_version. Frames between which the layout did not change share one copy:
-// in an aggregating run most frames come after the last merge before them (89 of the 100
-// frames of an N = 10^5 run to one cluster), and with few clusters left the copy of the
-// layout is most of what a frame costs the run.
+// in an aggregating run merges grow rare as the clusters do, so most frames come after the
+// last merge before them, and with few clusters left the copy of the layout is most of
+// what a frame costs the run.
 template <int D>
 struct SphereLayout {
   std::uint64_t version = 0;

@@ -33,7 +33,7 @@ using hdf5::Series;
 // for fast writes, small enough that reading one sphere's history does not read whole
 // frames and that a block of every dataset stays in the cache between its assembly and its
 // write. The N spheres are cut into equal chunks (chunk_spheres): a last chunk mostly
-// beyond N would be written whole all the same (5 % of the file at N = 10^6).
+// beyond N would be written whole all the same, padding every frame of every dataset.
 constexpr int kMaxChunkSpheres = 1 << 16;
 
 int chunk_spheres(int n) {
@@ -135,10 +135,30 @@ struct H5mdWriter<D>::Impl {
     edge_matrix = {p.box.length, 0.0, 0.0, 0.0, p.box.length, 0.0, 0.0, 0.0, depth};
   }
 
+  // The file, then its groups in a fixed order (the bytes of the file depend on it): h5md,
+  // particles/all with the box and the fixed per-sphere data, the time series, the
+  // observables, the parameters.
   void create(const Particles<D>& p, const std::string& config_toml) {
     n = p.size();
     periodic = p.box.periodic();
-    const bool layout_3d = stored == 3;
+    create_file();
+    write_h5md_group(file);
+    const Handle particles = hdf5::create_group(file, "particles");
+    const Handle all = hdf5::create_group(particles, "all");
+    const Handle box = write_box(all, p);
+    hdf5::write_dataset(all, "radius", p.radius);
+    hdf5::write_dataset(all, "mass", p.mass);
+    const Handle g_position = hdf5::create_group(all, "position");
+    create_particle_series(all, box, g_position);
+    create_observables(g_position);
+    const Handle parameters = hdf5::create_group(file, "parameters");
+    hdf5::write_string_dataset(parameters, "config.toml", config_toml);
+    hdf5::write_string_dataset(parameters, "ballagg_version", kVersion);
+    // A 2D run stored in 3D says so (H5mdReader reads it back in 2D).
+    if (stored != D) hdf5::write_attribute(parameters, "dimension", std::vector<std::int32_t>{D});
+  }
+
+  void create_file() {
     // The H5MD-recommended file format version 2, readable by HDF5 1.8 and later.
     const Handle fapl(check(H5Pcreate(H5P_FILE_ACCESS), "file properties"), H5Pclose);
     check(H5Pset_libver_bounds(fapl, H5F_LIBVER_V18, H5F_LIBVER_V18), "file properties");
@@ -150,44 +170,53 @@ struct H5mdWriter<D>::Impl {
       H5Eclear2(H5E_DEFAULT);
       throw std::runtime_error("cannot create the file");
     }
+  }
 
-    {
-      const Handle h5md = hdf5::create_group(file, "h5md");
-      hdf5::write_attribute(h5md, "version", std::vector<std::int32_t>{1, 1});
-      // H5MD asks for an author; ballagg does not record who ran it, so the file is the
-      // same whoever runs it.
-      hdf5::write_attribute(hdf5::create_group(h5md, "author"), "name", std::string("unknown"));
-      const Handle creator = hdf5::create_group(h5md, "creator");
-      hdf5::write_attribute(creator, "name", std::string("ballagg"));
-      hdf5::write_attribute(creator, "version", std::string(kVersion));
-    }
-    const Handle particles = hdf5::create_group(file, "particles");
-    const Handle all = hdf5::create_group(particles, "all");
-    const Handle box = hdf5::create_group(all, "box");
+  static void write_h5md_group(hid_t root) {
+    const Handle h5md = hdf5::create_group(root, "h5md");
+    hdf5::write_attribute(h5md, "version", std::vector<std::int32_t>{1, 1});
+    // H5MD asks for an author; ballagg does not record who ran it, so the file is the
+    // same whoever runs it.
+    hdf5::write_attribute(hdf5::create_group(h5md, "author"), "name", std::string("unknown"));
+    const Handle creator = hdf5::create_group(h5md, "creator");
+    hdf5::write_attribute(creator, "name", std::string("ballagg"));
+    hdf5::write_attribute(creator, "version", std::string(kVersion));
+  }
+
+  // The box group: its dimension and boundaries, and (stored in D < 3) its fixed edges; in
+  // 3D the edges are a time series (create_particle_series).
+  Handle write_box(hid_t all, const Particles<D>& p) const {
+    Handle box = hdf5::create_group(all, "box");
     hdf5::write_attribute(box, "dimension", std::vector<std::int32_t>{stored});
     std::vector<std::string> boundary(D, periodic ? "periodic" : "none");
     boundary.resize(stored, "none");
     hdf5::write_attribute(box, "boundary", boundary);
-    if (!layout_3d) hdf5::write_dataset(box, "edges", std::vector<double>(D, p.box.length));
-    hdf5::write_dataset(all, "radius", p.radius);
-    hdf5::write_dataset(all, "mass", p.mass);
+    if (stored != 3) hdf5::write_dataset(box, "edges", std::vector<double>(D, p.box.length));
+    return box;
+  }
 
+  // A time-dependent group `name` of `parent` that shares the positions' step and time.
+  static Handle time_dependent_group(hid_t g_position, hid_t parent, const std::string& name) {
+    Handle g = hdf5::create_group(parent, name);
+    check(H5Lcreate_hard(g_position, "step", g, "step", H5P_DEFAULT, H5P_DEFAULT), name + "/step");
+    check(H5Lcreate_hard(g_position, "time", g, "time", H5P_DEFAULT, H5P_DEFAULT), name + "/time");
+    return g;
+  }
+
+  // step, time and the per-sphere series (position, box edges in 3D, image, velocity,
+  // cluster), with the unit attributes of the 3D layout.
+  void create_particle_series(hid_t all, hid_t box, hid_t g_position) {
     const hsize_t un = static_cast<hsize_t>(n);
     const hsize_t rows = static_cast<hsize_t>(chunk_spheres(n));
-    const Handle g_position = hdf5::create_group(all, "position");
+    const hsize_t s = static_cast<hsize_t>(stored);
+    const bool layout_3d = stored == 3;
     step = std::make_unique<Series>(g_position, "step", H5T_NATIVE_INT64, std::vector<hsize_t>{}, kScalarChunk,
                                     Series::Compression::none);
     time = std::make_unique<Series>(g_position, "time", H5T_NATIVE_DOUBLE, std::vector<hsize_t>{}, kScalarChunk,
                                     Series::Compression::none);
-    const hsize_t s = static_cast<hsize_t>(stored);
     position = std::make_unique<Series>(g_position, "value", real_type(), std::vector<hsize_t>{un, s}, rows,
                                         Series::Compression::none);
-    auto element = [&](hid_t parent, const std::string& name) {
-      Handle g = hdf5::create_group(parent, name);
-      check(H5Lcreate_hard(g_position, "step", g, "step", H5P_DEFAULT, H5P_DEFAULT), name + "/step");
-      check(H5Lcreate_hard(g_position, "time", g, "time", H5P_DEFAULT, H5P_DEFAULT), name + "/time");
-      return g;
-    };
+    auto element = [&](hid_t parent, const std::string& name) { return time_dependent_group(g_position, parent, name); };
     if (layout_3d) {
       // The box per frame, as a matrix of edge vectors: MDAnalysis reads no other form.
       edges = std::make_unique<Series>(element(box, "edges"), "value", H5T_NATIVE_DOUBLE, std::vector<hsize_t>{s, s},
@@ -204,18 +233,17 @@ struct H5mdWriter<D>::Impl {
     if (layout_3d) hdf5::write_variable_string_attribute(velocity->id(), "unit", kVelocityUnit);
     cluster = std::make_unique<Series>(element(all, "cluster"), "value", H5T_NATIVE_INT32, std::vector<hsize_t>{un},
                                        rows, Series::Compression::none);
+  }
+
+  void create_observables(hid_t g_position) {
     const Handle observables = hdf5::create_group(file, "observables");
-    clusters = std::make_unique<Series>(element(observables, "clusters"), "value", H5T_NATIVE_INT32,
-                                        std::vector<hsize_t>{}, kScalarChunk, Series::Compression::none);
-    largest = std::make_unique<Series>(element(observables, "largest_cluster"), "value", H5T_NATIVE_INT32,
-                                       std::vector<hsize_t>{}, kScalarChunk, Series::Compression::none);
-    energy = std::make_unique<Series>(element(observables, "kinetic_energy"), "value", H5T_NATIVE_DOUBLE,
+    auto scalar = [&](const char* name, hid_t type) {
+      return std::make_unique<Series>(time_dependent_group(g_position, observables, name), "value", type,
                                       std::vector<hsize_t>{}, kScalarChunk, Series::Compression::none);
-    const Handle parameters = hdf5::create_group(file, "parameters");
-    hdf5::write_string_dataset(parameters, "config.toml", config_toml);
-    hdf5::write_string_dataset(parameters, "ballagg_version", kVersion);
-    // A 2D run stored in 3D says so (H5mdReader reads it back in 2D).
-    if (stored != D) hdf5::write_attribute(parameters, "dimension", std::vector<std::int32_t>{D});
+    };
+    clusters = scalar("clusters", H5T_NATIVE_INT32);
+    largest = scalar("largest_cluster", H5T_NATIVE_INT32);
+    energy = scalar("kinetic_energy", H5T_NATIVE_DOUBLE);
   }
 
   // Reopens the temporary file of a checkpointed run at `frames` frames.
@@ -385,11 +413,12 @@ struct H5mdWriter<D>::Impl {
 
   // A trajectory is written once and not read back by the run, so its pages need not stay
   // in the page cache: they are put on disk and dropped, and the next frames reuse the
-  // same memory. On the virtual machines we measure on, a page the kernel has not used
-  // lately costs far more than the copy into it: 3.9 GB in 34 MB writes took 13.7 s of
-  // system time, and 1.4 s when each write was followed by fdatasync and
-  // POSIX_FADV_DONTNEED (docs/performance.md, "Snapshots at N = 10^6"). A failed sync (a
-  // full disk) is an error here, at the frame that caused it.
+  // same memory. A page the kernel has not used lately can cost far more to reclaim than
+  // the copy into it (on virtual machines most of all), so a long trajectory written
+  // plainly would spend its time in the kernel; synced (fdatasync) and dropped
+  // (POSIX_FADV_DONTNEED) every kReleasePagesBytes, it reuses warm pages
+  // (docs/performance.md, "Snapshots at N = 10^6"). A failed sync (a full disk) is an
+  // error here, at the frame that caused it.
   void release_written_pages() {
     unreleased_bytes = 0;
     int* fd = nullptr;

@@ -28,8 +28,8 @@
 // of at most 65536 spheres, and written block by block, each block assembled right before
 // (FrameAssembler): a frame never exists whole in memory. Images are compressed (shuffle +
 // deflate level 1: nearly all zeros); positions, velocities and cluster ids are not
-// (floats barely compress, and deflating the ids cost the writer thread more than writing
-// them, measured at N = 10^6). No timestamps are written, so the same run gives a
+// (floats barely compress, and deflating the ids would cost the writer thread more time
+// than it saves on the disk). No timestamps are written, so the same run gives a
 // byte-identical file.
 #include <memory>
 #include <string>

@@ -16,9 +16,9 @@ namespace ballagg {
 inline constexpr int kSupersampling = 3;
 
 // The widest 3D picture: the supersampled raster holds (kSupersampling x panel)^2 samples
-// of 16 bytes (depth and colour): peak memory of `ballagg render` measured 0.21 GB at 1200
-// pixels, 0.81 GB at 2400, 2.3 GB at 4096 (it grows as the width squared, 38 GB at the 2D
-// limit). 2D pictures go up to kMaxPictureWidth.
+// of 16 bytes (depth and colour), so the memory grows as the width squared: a few GB at
+// this width, beyond a common machine's memory at the 2D limit (docs/performance.md,
+// "Rendering"). 2D pictures go up to kMaxPictureWidth.
 inline constexpr int kMaxSpherePictureWidth = 4096;
 
 struct View3 {

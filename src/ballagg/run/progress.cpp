@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "ballagg/core/progress_line.hpp"
+
 namespace ballagg {
 
 template <int D>
@@ -57,15 +59,7 @@ void ProgressReporter<D>::report(const State<D>& s, std::int64_t events, Moment 
   const double rate = elapsed > 0.0 ? events / elapsed : 0.0;
   const std::string status = fmt::format("clusters {} / {}  t = {:.6g}  {:.3g} M events/s  {:.1f} s", s.n_clusters(),
                                          s.n_spheres(), s.time, rate * 1e-6, elapsed);
-  if (terminal_) {
-    constexpr int kWidth = 30;
-    const int filled = static_cast<int>(done * kWidth);
-    fmt::print(out_, "\r[{}{}] {:3.0f}%  {}\x1b[K{}", std::string(filled, '#'), std::string(kWidth - filled, '.'),
-               100.0 * done, status, final ? "\n" : "");
-  } else {
-    fmt::print(out_, "{:3.0f}%  {}\n", 100.0 * done, status);
-  }
-  std::fflush(out_);
+  draw_progress(out_, terminal_, done, status, final);
 }
 
 template class ProgressReporter<2>;

@@ -1,9 +1,10 @@
 #pragma once
-// Progress on stderr: a bar redrawn in place on a terminal, a plain line every
-// kPlainEvery seconds otherwise (log files), nothing with --quiet.
+// Progress of a run on stderr: a bar redrawn in place on a terminal, a plain line every
+// kPlainEvery seconds otherwise (log files), nothing with --quiet (core/progress_line.hpp).
 #include <chrono>
 #include <cstdio>
 
+#include "ballagg/core/progress_line.hpp"
 #include "ballagg/engines/engine.hpp"
 
 namespace ballagg {
@@ -11,8 +12,8 @@ namespace ballagg {
 template <int D>
 class ProgressReporter final : public RunObserver<D> {
  public:
-  static constexpr double kTerminalEvery = 0.2;  // seconds between redraws
-  static constexpr double kPlainEvery = 10.0;    // seconds between plain lines
+  static constexpr double kTerminalEvery = ProgressLine::kTerminalEvery;  // seconds between redraws
+  static constexpr double kPlainEvery = ProgressLine::kPlainEvery;        // seconds between plain lines
 
   ProgressReporter(std::FILE* out, bool terminal, const StopCriteria& stop)
       : out_(out), terminal_(terminal), stop_(stop) {}

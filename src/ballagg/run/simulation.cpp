@@ -29,6 +29,7 @@
 #include "ballagg/io/xyz.hpp"
 #include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/checkpointer.hpp"
+#include "ballagg/run/observer_list.hpp"
 #include "ballagg/run/progress.hpp"
 #include "ballagg/run/run_files.hpp"
 #include "ballagg/run/snapshots.hpp"
@@ -77,34 +78,6 @@ StopCriteria stop_criteria(const Config& c) {
 }
 
 namespace {
-
-template <int D>
-class ObserverList final : public RunObserver<D> {
- public:
-  void add(RunObserver<D>* o) { list_.push_back(o); }
-  void on_start(const State<D>& s) override { for (auto* o : list_) o->on_start(s); }
-  void before_event(const State<D>& s, double t) override { for (auto* o : list_) o->before_event(s, t); }
-  void after_event(const State<D>& s, const EventRecord& e, const EngineCounters& c) override {
-    for (auto* o : list_) o->after_event(s, e, c);
-  }
-  void on_finish(const State<D>& s, const RunResult& r) override { for (auto* o : list_) o->on_finish(s, r); }
-  bool checkpoint_due() override {
-    for (auto* o : list_)
-      if (o->checkpoint_due()) return true;
-    return false;
-  }
-  void on_checkpoint(const State<D>& s, const EngineCounters& c, const std::string& engine_state) override {
-    for (auto* o : list_) o->on_checkpoint(s, c, engine_state);
-  }
-  double next_position_read() const override {
-    double t = kNever;
-    for (auto* o : list_) t = std::min(t, o->next_position_read());
-    return t;
-  }
-
- private:
-  std::vector<RunObserver<D>*> list_;
-};
 
 template <int D>
 nlohmann::json vector_json(const Vec<D>& v) {
@@ -208,141 +181,48 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   return j.dump(2) + "\n";
 }
 
-// What a run needs before anything is written: the state, the resolved configuration, the
-// stop criteria and the engine, restored from the checkpoint for a resumed run. Throws
-// InputError (CheckpointError) for input that cannot run.
+// What a checkpoint of this run holds, made when the checkpointer asks (the state and
+// the recorders as they are then).
 template <int D>
-struct PreparedRun {
-  State<D> state;
-  Config config;
-  StopCriteria stop;
-  std::unique_ptr<Engine<D>> engine;
-  double earlier_seconds = 0.0;  // wall time of the run's parts before its checkpoint
-};
-
-template <int D>
-PreparedRun<D> prepare_run(const Config& given, const RunOptions& options, const Checkpoint* resume) {
-  State<D> state = resume ? StateCodec<D>::decode(resume->state) : make_initial_state<D>(given);
-  Config config = resume ? given : resolve_defaults(given, state);
-  PreparedRun<D> run{std::move(state), std::move(config), {}, nullptr, resume ? resume->wall_seconds : 0.0};
-  run.stop = stop_criteria(run.config);
-  run.engine = make_engine<D>(run.config);
-  if (resume) {
-    if (resume->engine != run.engine->name())
-      throw CheckpointError(fmt::format("{}: written by engine {} for a configuration of engine {}", options.out_dir,
-                                        resume->engine, run.engine->name()));
-    run.engine->resume_from(run.state, resume->engine_state);
-    run.stop.wall_seconds -= run.earlier_seconds;  // stop.wall_seconds bounds the whole run
-  } else {
-    check_timeseries_rows(run.config.output.timeseries_interval, run.state.time, run.config.stop.time);
-    check_snapshot_frames(run.config.output.snapshot_every, run.state.time, run.config.stop.time);
-  }
-  return run;
+auto checkpoint_maker(const Config& config, std::string_view engine, double earlier_seconds, const Totals<D>& initial,
+                      const TimeseriesRecorder<D>& timeseries, SnapshotRecorder<D>* snapshots) {
+  return [config_toml = to_toml_text(config), engine_name = std::string(engine), earlier_seconds, &initial, &timeseries,
+          snapshots](const State<D>& s, const std::string& engine_state, double seconds) {
+    Checkpoint c;
+    c.program_version = kVersion;
+    c.dimension = D;
+    c.engine = engine_name;
+    c.config_toml = config_toml;
+    c.wall_seconds = earlier_seconds + seconds;
+    c.totals = initial.encode();
+    c.state = StateCodec<D>::encode(s);
+    c.engine_state = engine_state;
+    c.timeseries = timeseries.save();
+    if (snapshots) c.snapshots = snapshots->save();
+    return c;
+  };
 }
 
-// The observers of a run (timeseries.csv, trajectories, the progress line, checkpoints),
-// restored from the checkpoint for a resumed run. Built in place: the checkpointer refers
-// to the others.
-template <int D>
-class RunRecorders {
- public:
-  RunRecorders(const PreparedRun<D>& run, const RunOptions& options, const Checkpoint* resume, const std::string& dir,
-               bool checkpoint_on_signals, RunGuard& guard)
-      : initial(resume ? Totals<D>(resume->totals) : Totals<D>(run.state)),
-        timeseries(run.config.output.timeseries_interval, run.config.engine.kind == EngineKind::rigid_body, &guard),
-        progress(stderr, options.progress_on_terminal && isatty(STDERR_FILENO), run.stop) {
-    if (resume) timeseries.restore(resume->timeseries);
-    observers.add(&timeseries);
-    std::optional<std::string_view> saved_snapshots;
-    if (resume && !resume->snapshots.empty()) saved_snapshots = resume->snapshots;
-    snapshots = make_snapshot_recorder(run.config, run.state, dir, saved_snapshots, &guard);
-    if (snapshots) observers.add(snapshots.get());
-    if (!options.quiet) observers.add(&progress);
-    if (run.engine->supports_checkpoints()) add_checkpointer(run, dir, checkpoint_on_signals, guard);
-  }
-
-  const Totals<D> initial;
-  TimeseriesRecorder<D> timeseries;
-  ProgressReporter<D> progress;
-  std::unique_ptr<SnapshotRecorder<D>> snapshots;
-  std::optional<Checkpointer<D>> checkpointer;
-  ObserverList<D> observers;
-
- private:
-  void add_checkpointer(const PreparedRun<D>& run, const std::string& dir, bool on_signals, RunGuard& guard) {
-    const std::string config_toml = to_toml_text(run.config);
-    const std::string engine_name(run.engine->name());
-    const double earlier_seconds = run.earlier_seconds;
-    checkpointer.emplace(dir, run.config.output.checkpoint_every, on_signals,
-                         [this, config_toml, engine_name, earlier_seconds](const State<D>& s, const std::string& engine_state,
-                                                                          double seconds) {
-      Checkpoint c;
-      c.program_version = kVersion;
-      c.dimension = D;
-      c.engine = engine_name;
-      c.config_toml = config_toml;
-      c.wall_seconds = earlier_seconds + seconds;
-      c.totals = initial.encode();
-      c.state = StateCodec<D>::encode(s);
-      c.engine_state = engine_state;
-      c.timeseries = timeseries.save();
-      if (snapshots) c.snapshots = snapshots->save();
-      return c;
-    }, &guard);
-    observers.add(&*checkpointer);
-  }
-};
-
-// Runs the engine. Bad input found during the run (coefficients that would create energy)
-// leaves nothing behind, as for input refused before the run.
-template <int D>
-RunResult run_engine(PreparedRun<D>& run, RunRecorders<D>& recorders, std::optional<NewRunDirectory>& fresh,
-                     const std::string& dir) {
-  const bool created = fresh && fresh->created;
-  try {
-    run.stop.guard->start_clock();
-    return run.engine->run(run.state, run.stop, recorders.observers);
-  } catch (const InputError&) {
-    std::error_code ec;
-    fresh.reset();  // the lock file goes first
-    if (created) std::filesystem::remove(dir, ec);
-    throw;
-  }
-}
-
-// A signal, and no checkpoint of it (a run inside a sweep): nothing of this run is written;
-// its trajectories' temporary files go unless an earlier checkpoint refers to them.
-template <int D>
-[[noreturn]] void end_interrupted(const State<D>& state, RunRecorders<D>& recorders, bool created, const std::string& dir) {
-  recorders.snapshots.reset();
+// A run stopped by a signal without a checkpoint of that moment: its directory goes unless
+// an earlier checkpoint can continue it; the message says which.
+[[noreturn]] void throw_interrupted(const std::string& dir, bool created, double time) {
   std::error_code ec;
   const bool resumable = std::filesystem::exists(std::filesystem::path(dir) / kCheckpointFile, ec);
   if (created && !resumable) std::filesystem::remove(dir, ec);
-  throw RunInterrupted(stop_signal(), fmt::format("interrupted by {} at t = {}: {}", signal_name(stop_signal()), state.time,
+  throw RunInterrupted(stop_signal(), fmt::format("interrupted by {} at t = {}: {}", signal_name(stop_signal()), time,
                                                   resumable ? fmt::format("continue from its last checkpoint with: "
                                                                           "ballagg run --resume {}", dir)
                                                             : std::string("the run's files were not written")));
 }
 
+// The files of a finished run, summary.json last; its checkpoint goes (nothing to resume).
 template <int D>
-void report_output_limit(const State<D>& state) {
-  fmt::print(stderr,
-             "ballagg: the run stopped at t = {} with as many rows or frames as are written (at most {} rows of "
-             "timeseries.csv, {} trajectory frames): set a larger output.timeseries_interval or "
-             "output.snapshot_every, or a stop.time\n",
-             state.time, TimeseriesRecorder<D>::kMaxRows, SnapshotRecorder<D>::kMaxFrames + 2);
-}
-
-// The files of a finished run; its checkpoint goes (nothing is left to resume).
-template <int D>
-void write_run_files(const PreparedRun<D>& run, RunRecorders<D>& recorders, const RunResult& result,
-                     const std::string& dir) {
-  const State<D>& state = run.state;
-  const Config& config = run.config;
+void write_run_files(const std::string& dir, const Config& config, std::string_view engine, const Totals<D>& initial,
+                     const State<D>& state, const RunResult& result, const std::string& timeseries_csv) {
   const std::string final_csv = state_csv_text(state);
   write_file_atomically(dir, "final.csv", final_csv);
   if (config.output.xyz) write_file_atomically(dir, "final.xyz", xyz_frame_text(state));
-  write_file_atomically(dir, "timeseries.csv", recorders.timeseries.csv());
+  write_file_atomically(dir, "timeseries.csv", timeseries_csv);
   if (config.engine.kind == EngineKind::rigid_body) {
     // Richardson's end-of-run statistics: the files of `ballagg analyze`, from final.csv
     // as that command reads it, so that both give the same bytes.
@@ -351,7 +231,7 @@ void write_run_files(const PreparedRun<D>& run, RunRecorders<D>& recorders, cons
                    parse_state_csv<D>(final_csv, final_path), final_path, dir);
   }
   write_file_atomically(dir, "config.toml", to_toml_text(config));
-  write_file_atomically(dir, "summary.json", summary_text(config, run.engine->name(), recorders.initial, state, result));
+  write_file_atomically(dir, "summary.json", summary_text(config, engine, initial, state, result));
   std::error_code ec;
   std::filesystem::remove(std::filesystem::path(dir) / kCheckpointFile, ec);
 }
@@ -361,7 +241,23 @@ void write_run_files(const PreparedRun<D>& run, RunRecorders<D>& recorders, cons
 template <int D>
 std::string run_in_dimension(const Config& given, const RunOptions& options, const Checkpoint* resume) {
   // All input checks happen before any output.
-  PreparedRun<D> run = prepare_run<D>(given, options, resume);
+  State<D> state = resume ? StateCodec<D>::decode(resume->state) : make_initial_state<D>(given);
+  const Config config = resume ? given : resolve_defaults(given, state);
+  StopCriteria stop = stop_criteria(config);
+  std::unique_ptr<Engine<D>> engine = make_engine<D>(config);
+  const double earlier_seconds = resume ? resume->wall_seconds : 0.0;
+  if (resume) {
+    if (resume->engine != engine->name())
+      throw CheckpointError(fmt::format("{}: written by engine {} for a configuration of engine {}", options.out_dir,
+                                        resume->engine, engine->name()));
+    engine->resume_from(state, resume->engine_state);
+    stop.wall_seconds -= earlier_seconds;  // stop.wall_seconds bounds the whole run
+  }
+
+  if (!resume) {
+    check_timeseries_rows(config.output.timeseries_interval, state.time, config.stop.time);
+    check_snapshot_frames(config.output.snapshot_every, state.time, config.stop.time);
+  }
 
   // Signals are heard from here on: everything is checked, and nothing written yet.
   std::optional<InterruptFlag> interrupts;
@@ -373,14 +269,55 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
   const bool created = fresh && fresh->created;
 
   // Polled by the engine and the recorders: the wall-clock limit, signals, output caps.
-  RunGuard guard(run.stop.wall_seconds);
-  run.stop.guard = &guard;
-  RunRecorders<D> recorders(run, options, resume, dir, interrupts.has_value(), guard);
-  RunResult result = run_engine(run, recorders, fresh, dir);
-  if (result.reason == StopReason::interrupted) end_interrupted(run.state, recorders, created, dir);
-  result.wall_seconds += run.earlier_seconds;
-  if (result.reason == StopReason::output_limit && !options.quiet) report_output_limit(run.state);
-  write_run_files(run, recorders, result, dir);
+  RunGuard guard(stop.wall_seconds);
+  stop.guard = &guard;
+  const Totals<D> initial = resume ? Totals<D>(resume->totals) : Totals<D>(state);
+  const bool rigid = config.engine.kind == EngineKind::rigid_body;
+  TimeseriesRecorder<D> timeseries(config.output.timeseries_interval, rigid, &guard);
+  if (resume) timeseries.restore(resume->timeseries);
+  ProgressReporter<D> progress(stderr, options.progress_on_terminal && isatty(STDERR_FILENO), stop);
+  ObserverList<D> observers;
+  observers.add(&timeseries);
+  std::optional<std::string_view> saved_snapshots;
+  if (resume && !resume->snapshots.empty()) saved_snapshots = resume->snapshots;
+  std::unique_ptr<SnapshotRecorder<D>> snapshots = make_snapshot_recorder(config, state, dir, saved_snapshots, &guard);
+  if (snapshots) observers.add(snapshots.get());
+  if (!options.quiet) observers.add(&progress);
+
+  std::optional<Checkpointer<D>> checkpointer;
+  if (engine->supports_checkpoints()) {
+    checkpointer.emplace(dir, config.output.checkpoint_every, interrupts.has_value(),
+                         checkpoint_maker<D>(config, engine->name(), earlier_seconds, initial, timeseries, snapshots.get()),
+                         &guard);
+    observers.add(&*checkpointer);
+  }
+  RunResult result;
+  try {
+    guard.start_clock();
+    result = engine->run(state, stop, observers);
+  } catch (const InputError&) {
+    // Bad input found during the run (coefficients that would create energy): leave
+    // nothing behind, as for input rejected before the run.
+    std::error_code ec;
+    fresh.reset();  // the lock file goes first
+    if (created) std::filesystem::remove(dir, ec);
+    throw;
+  }
+  if (result.reason == StopReason::interrupted) {
+    // A signal, and no checkpoint of it (a run inside a sweep): nothing of this run is
+    // written; its trajectories' temporary files go unless an earlier checkpoint refers to them.
+    snapshots.reset();
+    throw_interrupted(dir, created, state.time);
+  }
+  result.wall_seconds += earlier_seconds;
+  if (result.reason == StopReason::output_limit && !options.quiet)
+    fmt::print(stderr,
+               "ballagg: the run stopped at t = {} with as many rows or frames as are written (at most {} rows of "
+               "timeseries.csv, {} trajectory frames): set a larger output.timeseries_interval or "
+               "output.snapshot_every, or a stop.time\n",
+               state.time, TimeseriesRecorder<D>::kMaxRows, SnapshotRecorder<D>::kMaxFrames + 2);
+
+  write_run_files(dir, config, engine->name(), initial, state, result, timeseries.csv());
   return dir;
 }
 

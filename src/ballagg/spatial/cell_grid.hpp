@@ -58,6 +58,14 @@ class CellGrid {
     link(id, c);
   }
 
+  // Takes item id out of its cell: no query visits it until it is inserted again.
+  void remove(int id) {
+    unlink(id);
+    node_[id].cell = -1;
+  }
+  // Drops the last item, removed before: ids stay dense when an item leaves for good.
+  void pop_back() { node_.pop_back(); }
+
   // Calls f(id, binned position) for every item in the cells adjacent to p (each cell
   // visited once).
   template <class F>

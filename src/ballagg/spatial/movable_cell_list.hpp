@@ -3,11 +3,11 @@
 //
 // The time-stepping engine bins every sphere once a step (a counting sort, O(N)); its
 // minimisations and retreats then move a few spheres at a time, some farther than the cell
-// slack allows. Rebuilding after each of them costs O(N) per group, and visiting the moved
-// spheres apart costs every query the length of their list (both were most of a step at
-// N = 10^6). Here a moved item leaves its sorted slot (skipped from then on) for a short
-// list of the cell it moved into, so a move costs O(1) plus the length of two cell lists,
-// and a query still visits only the cells around its point.
+// slack allows. Rebuilding after each of them would cost O(N) per group, and keeping the
+// moved spheres in one list apart would cost every query the length of that list: at large
+// N either outweighs the rest of a step. Here a moved item leaves its sorted slot (skipped
+// from then on) for a short list of the cell it moved into, so a move costs O(1) plus the
+// length of two cell lists, and a query still visits only the cells around its point.
 #include <cstdint>
 #include <vector>
 

@@ -54,6 +54,13 @@ class NeighborLists {
     if (slot_[i] >= 0) unexpose(i, cluster_of[i]);
   }
 
+  // Drops the last sphere's list, emptied before (remove_all_pairs): ids stay dense when a
+  // sphere leaves for good.
+  void pop_back() {
+    partners_.pop_back();
+    slot_.pop_back();
+  }
+
   // After the spheres of cluster `gone` were relabelled as members of `keep`: drops the
   // pairs that became internal and hands gone's exposed spheres over to keep.
   void absorb(int keep, int gone, const std::int32_t* cluster_of) {

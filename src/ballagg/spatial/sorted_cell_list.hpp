@@ -45,8 +45,8 @@ class SortedCellList {
       return;
     }
     // A counting sort shared among the threads: each counts, then scatters, a block of
-    // the items (the cell index, a division per axis, was most of a build; the scatter,
-    // with its random writes, most of the rest: 12 ms of a serial build at N = 10^6). A
+    // the items (the cell index, a division per axis, and the scatter, with its random
+    // writes, are nearly all of a build, and both divide among threads). A
     // cell's slots hold the items of the first block, then of the second, and so on: in
     // increasing id, as the serial sort leaves them.
     const std::int64_t n_cells = grid_.n_cells();

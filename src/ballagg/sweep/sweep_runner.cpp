@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <filesystem>
-#include <mutex>
 #include <optional>
 #include <thread>
 
@@ -20,6 +20,7 @@
 #include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/checkpointer.hpp"
 #include "ballagg/run/simulation.hpp"
+#include "ballagg/sweep/sweep_progress.hpp"
 #include "ballagg/sweep/sweep_table.hpp"
 
 namespace ballagg {
@@ -62,15 +63,10 @@ void check_sweep_dir(const SweepSpec& spec, const SweepOptions& o) {
 bool finished(const fs::path& dir) { return fs::exists(dir / "summary.json"); }
 bool analysed(const fs::path& dir) { return fs::exists(dir / "analysis.json"); }
 
-}  // namespace
-
-SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Communicator& world) {
-  const std::vector<SweepPoint> points = sweep_points(spec);
-  const std::vector<SweepRun> runs = sweep_runs(spec, points);  // every configuration checked
-  check_sweep_dir(spec, o);
-  world.barrier();  // every process has checked before the first writes
-  // The first process locks the sweep directory for the whole sweep: a second sweep
-  // started on it (with --resume or not) is refused by every process of its job.
+// The first process locks the sweep directory for the whole sweep: a second sweep started
+// on it (with --resume or not) is refused by every process of its job. It then keeps the
+// sweep file and makes runs/.
+std::optional<DirectoryLock> lock_sweep_dir(const SweepSpec& spec, const SweepOptions& o, const Communicator& world) {
   std::optional<DirectoryLock> lock;
   std::string refusal;
   if (world.rank() == 0) {
@@ -90,21 +86,62 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Commu
     if (!fs::exists(fs::path(o.out_dir) / kSweepCopy)) write_file_atomically(o.out_dir, kSweepCopy, spec.text);
     fs::create_directories(fs::path(o.out_dir) / "runs");
   }
-  world.barrier();
+  return lock;
+}
 
-  // This process's runs: every size-th, so each point's realizations spread over the ranks.
+// This process's runs still to do: every size-th, so each point's realizations spread over
+// the ranks; those finished and analysed are counted in `skipped`.
+std::vector<const SweepRun*> runs_to_do(const std::vector<SweepRun>& runs, const SweepOptions& o,
+                                        const Communicator& world, long long& skipped) {
   std::vector<const SweepRun*> mine;
-  long long skipped = 0;
   for (std::size_t k = world.rank(); k < runs.size(); k += world.size()) {
     const fs::path dir = run_dir(o, runs[k]);
     if (finished(dir) && analysed(dir)) ++skipped;
     else mine.push_back(&runs[k]);
   }
-  const int jobs = std::max(1, o.jobs > 0 ? o.jobs
-                                          : (world.mpi() ? 1 : static_cast<int>(std::thread::hardware_concurrency())));
-  std::atomic<std::size_t> next{0};
+  return mine;
+}
+
+int jobs_of(const SweepOptions& o, const Communicator& world) {
+  if (o.jobs > 0) return o.jobs;
+  return std::max(1, world.mpi() ? 1 : static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+// " (rank 2 of 4)" under MPI with more than one process, else nothing.
+std::string process_name(const Communicator& world) {
+  return world.size() > 1 ? fmt::format(" (rank {} of {})", world.rank(), world.size()) : std::string();
+}
+
+// One run and its analysis. An unfinished run (the sweep was stopped during it) starts
+// again from the beginning, replacing its files.
+void run_and_analyse(const SweepRun& r, const fs::path& dir) {
+  RunOptions options{dir.string(), true, false, false};
+  options.overwrite = true;
+  if (!finished(dir)) run_simulation(r.config, options);
+  analyze_run({dir.string(), "", "", ""});
+  std::error_code ec;
+  fs::remove(dir / "error.txt", ec);  // left by an earlier attempt
+}
+
+// A failed run leaves its message in error.txt (and on stderr, by SweepProgress).
+void record_failure(const fs::path& dir, const std::string& what) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  try {
+    write_file_atomically(dir.string(), "error.txt", what + "\n");
+  } catch (const std::exception&) {
+    // The message is on stderr already.
+  }
+}
+
+struct RunCounts {
   std::atomic<long long> ran{0}, failed{0};
-  std::mutex print;
+};
+
+// Runs `mine` on `jobs` threads (this one included), each taking the next run not taken.
+void run_all(const std::vector<const SweepRun*>& mine, const std::vector<SweepPoint>& points, const SweepOptions& o,
+             int jobs, SweepProgress& progress, RunCounts& counts) {
+  std::atomic<std::size_t> next{0};
   auto worker = [&] {
 #ifdef _OPENMP
     omp_set_num_threads(std::max(1, o.threads_per_run));  // per thread: each run's own team
@@ -112,34 +149,18 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Commu
     for (std::size_t k; stop_signal() == 0 && (k = next++) < mine.size();) {
       const SweepRun& r = *mine[k];
       const fs::path dir = run_dir(o, r);
+      const auto start = std::chrono::steady_clock::now();
+      const auto seconds = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
       try {
-        // An unfinished run (the sweep was stopped during it) starts again from the beginning,
-        // replacing its files.
-        RunOptions options{dir.string(), true, false, false};
-        options.overwrite = true;
-        if (!finished(dir)) run_simulation(r.config, options);
-        analyze_run({dir.string(), "", "", ""});
-        std::error_code ec;
-        fs::remove(dir / "error.txt", ec);  // left by an earlier attempt
-        ++ran;
-        if (!o.quiet) {
-          const std::lock_guard<std::mutex> printing(print);
-          fmt::print("sweep: {} done\n", (fs::path("runs") / r.name).string());
-          std::fflush(stdout);
-        }
+        run_and_analyse(r, dir);
+        ++counts.ran;
+        progress.done(r, points[r.point], seconds());
       } catch (const RunInterrupted&) {
         // Stopped under way: it leaves nothing and runs again when the sweep is resumed.
       } catch (const std::exception& e) {
-        ++failed;
-        const std::lock_guard<std::mutex> printing(print);
-        fmt::print(stderr, "ballagg: sweep: run {} failed: {}\n", dir.string(), e.what());
-        std::error_code ec;
-        fs::create_directories(dir, ec);
-        try {
-          write_file_atomically(dir.string(), "error.txt", std::string(e.what()) + "\n");
-        } catch (const std::exception&) {
-          // The message is on stderr already.
-        }
+        ++counts.failed;
+        progress.failed(dir.string(), e.what(), seconds());
+        record_failure(dir, e.what());
       }
     }
   };
@@ -147,9 +168,28 @@ SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Commu
   for (int t = 1; t < std::min<int>(jobs, static_cast<int>(mine.size())); ++t) threads.emplace_back(worker);
   worker();
   for (std::thread& t : threads) t.join();
+}
 
-  SweepOutcome out{world.sum(ran), world.sum(skipped), world.sum(failed), static_cast<long long>(runs.size()),
-                   stop_signal()};
+}  // namespace
+
+SweepOutcome run_sweep(const SweepSpec& spec, const SweepOptions& o, const Communicator& world) {
+  const std::vector<SweepPoint> points = sweep_points(spec);
+  const std::vector<SweepRun> runs = sweep_runs(spec, points);  // every configuration checked
+  check_sweep_dir(spec, o);
+  world.barrier();  // every process has checked before the first writes
+  const std::optional<DirectoryLock> lock = lock_sweep_dir(spec, o, world);
+  world.barrier();
+
+  long long skipped = 0;
+  const std::vector<const SweepRun*> mine = runs_to_do(runs, o, world, skipped);
+  const int jobs = jobs_of(o, world);
+  SweepProgress progress(spec, stdout, o.quiet, static_cast<long long>(mine.size()), jobs, process_name(world));
+  progress.start(skipped);
+  RunCounts counts;
+  run_all(mine, points, o, jobs, progress, counts);
+
+  SweepOutcome out{world.sum(counts.ran), world.sum(skipped), world.sum(counts.failed),
+                   static_cast<long long>(runs.size()), stop_signal()};
   world.barrier();  // every run is on disk
   if (world.rank() == 0) write_sweep_tables(o.out_dir, spec, points, runs);
   return out;

@@ -20,7 +20,7 @@ struct SweepOptions {
   bool resume = false;       // continue the sweep already in out_dir
   int jobs = 0;              // concurrent runs per process; 0: the cores (1 under MPI)
   int threads_per_run = 1;   // OpenMP threads of each run
-  bool quiet = false;        // no line per finished run
+  bool quiet = false;        // no progress lines (sweep_progress.hpp)
 };
 
 struct SweepOutcome {

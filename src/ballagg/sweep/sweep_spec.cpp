@@ -83,6 +83,103 @@ SweepAxis read_axis(const SpecReader& r, const std::string& key, const toml::nod
   return axis;
 }
 
+// The root's sections: [sweep], [grid] and [[variants]] only.
+void check_sections(const SpecReader& r, const toml::table& root) {
+  for (auto&& [k, node] : root) {
+    const std::string name(k.str());
+    if (name != "sweep" && name != "grid" && name != "variants")
+      r.fail(line_of(node), fmt::format("unknown section [{}] (a sweep file has [sweep], [grid] and [[variants]])", name));
+  }
+}
+
+// [sweep]: base, realizations, seed_base.
+void read_sweep_section(const SpecReader& r, const toml::node& node, SweepSpec& spec) {
+  const toml::table* t = node.as_table();
+  if (t == nullptr) r.fail(line_of(node), "sweep must be a section ([sweep])");
+  for (auto&& [k, v] : *t) {
+    const std::string key(k.str());
+    if (key == "base") {
+      auto s = v.value_exact<std::string>();
+      if (!s || s->empty()) r.fail(line_of(v), "sweep.base must be the path of a configuration file (a string)");
+      const fs::path p(*s);
+      spec.base = p.is_relative() ? (fs::path(spec.source).parent_path() / p).lexically_normal().string() : *s;
+    } else if (key == "realizations") {
+      auto i = v.value_exact<std::int64_t>();
+      if (!i || *i < 1 || *i > kMaxRealizations)
+        r.fail(line_of(v), fmt::format("sweep.realizations must be an integer from 1 to {}", kMaxRealizations));
+      spec.realizations = static_cast<int>(*i);
+    } else if (key == "seed_base") {
+      auto i = v.value_exact<std::int64_t>();
+      if (!i || *i < 0) r.fail(line_of(v), "sweep.seed_base must be an integer >= 0");
+      spec.seed_base = static_cast<std::uint64_t>(*i);
+    } else {
+      r.fail(line_of(v), fmt::format("unknown key 'sweep.{}' (keys of [sweep]: base, realizations, seed_base)", key));
+    }
+  }
+}
+
+// One [[variants]] table: its label, its settings and its own values of grid keys.
+SweepVariant read_variant(const SpecReader& r, const toml::node& item) {
+  const toml::table* t = item.as_table();
+  if (t == nullptr) r.fail(line_of(item), "each of variants must be a table ([[variants]])");
+  SweepVariant v;
+  v.line = line_of(item);
+  std::vector<std::pair<std::string, const toml::node*>> keys;
+  r.leaves(*t, "", keys);
+  for (const auto& [key, value] : keys) {
+    if (key == "label") {
+      auto s = value->value_exact<std::string>();
+      if (!s || s->empty()) r.fail(line_of(*value), "variants label must be a non-empty string");
+      v.label = *s;
+      continue;
+    }
+    r.check_key(key, line_of(*value), "variant key");
+    if (const toml::array* values = value->as_array()) {
+      v.own_values.push_back(read_axis(r, key, *value, *values));
+      continue;
+    }
+    v.settings.push_back({key, r.value_text(*value, key), line_of(*value)});
+  }
+  if (v.label.empty()) {
+    for (const SweepSetting& s : v.settings) v.label += (v.label.empty() ? "" : ",") + s.key + "=" + s.value;
+  }
+  return v;
+}
+
+void read_variants(const SpecReader& r, const toml::node& node, SweepSpec& spec) {
+  const toml::array* a = node.as_array();
+  if (a == nullptr || a->empty()) r.fail(line_of(node), "variants must be an array of tables ([[variants]] sections)");
+  for (const toml::node& item : *a) spec.variants.push_back(read_variant(r, item));
+}
+
+// [grid]: an array of values per key, a key set by no variant.
+void read_grid(const SpecReader& r, const toml::node& node, SweepSpec& spec) {
+  const toml::table* t = node.as_table();
+  if (t == nullptr) r.fail(line_of(node), "grid must be a section ([grid])");
+  std::vector<std::pair<std::string, const toml::node*>> keys;
+  r.leaves(*t, "", keys);
+  for (const auto& [key, value] : keys) {
+    r.check_key(key, line_of(*value), "grid key");
+    const toml::array* values = value->as_array();
+    if (values == nullptr)
+      r.fail(line_of(*value), fmt::format("grid {} must be a non-empty array of values, e.g. {} = [1, 2]", key, key));
+    for (const SweepVariant& variant : spec.variants)
+      for (const SweepSetting& s : variant.settings)
+        if (s.key == key)
+          r.fail(line_of(*value), fmt::format("grid {}: also set by the variant at line {} (set it in one place)", key, variant.line));
+    spec.axes.push_back(read_axis(r, key, *value, *values));
+  }
+}
+
+// A variant's own array replaces the values of a grid key: the key must be in [grid].
+void check_variant_values(const SpecReader& r, const SweepSpec& spec) {
+  for (const SweepVariant& variant : spec.variants)
+    for (const SweepAxis& own : variant.own_values)
+      if (std::none_of(spec.axes.begin(), spec.axes.end(), [&](const SweepAxis& a) { return a.key == own.key; }))
+        r.fail(own.values.front().line, fmt::format("variant values for {}: not a key of [grid] (a variant's array "
+                                                    "replaces the grid's values for that key)", own.key));
+}
+
 }  // namespace
 
 SweepSpec parse_sweep_text(const std::string& text, const std::string& source) {
@@ -97,94 +194,16 @@ SweepSpec parse_sweep_text(const std::string& text, const std::string& source) {
   } catch (const toml::parse_error& e) {
     r.fail(static_cast<int>(e.source().begin.line), fmt::format("invalid TOML: {}", e.description()));
   }
-  for (auto&& [k, node] : root) {
-    const std::string name(k.str());
-    if (name != "sweep" && name != "grid" && name != "variants")
-      r.fail(line_of(node), fmt::format("unknown section [{}] (a sweep file has [sweep], [grid] and [[variants]])", name));
-  }
-
-  if (const toml::node* node = root.get("sweep")) {
-    const toml::table* t = node->as_table();
-    if (t == nullptr) r.fail(line_of(*node), "sweep must be a section ([sweep])");
-    for (auto&& [k, v] : *t) {
-      const std::string key(k.str());
-      if (key == "base") {
-        auto s = v.value_exact<std::string>();
-        if (!s || s->empty()) r.fail(line_of(v), "sweep.base must be the path of a configuration file (a string)");
-        const fs::path p(*s);
-        spec.base = p.is_relative() ? (fs::path(source).parent_path() / p).lexically_normal().string() : *s;
-      } else if (key == "realizations") {
-        auto i = v.value_exact<std::int64_t>();
-        if (!i || *i < 1 || *i > kMaxRealizations)
-          r.fail(line_of(v), fmt::format("sweep.realizations must be an integer from 1 to {}", kMaxRealizations));
-        spec.realizations = static_cast<int>(*i);
-      } else if (key == "seed_base") {
-        auto i = v.value_exact<std::int64_t>();
-        if (!i || *i < 0) r.fail(line_of(v), "sweep.seed_base must be an integer >= 0");
-        spec.seed_base = static_cast<std::uint64_t>(*i);
-      } else {
-        r.fail(line_of(v), fmt::format("unknown key 'sweep.{}' (keys of [sweep]: base, realizations, seed_base)", key));
-      }
-    }
-  }
-
-  if (const toml::node* node = root.get("variants")) {
-    const toml::array* a = node->as_array();
-    if (a == nullptr || a->empty())
-      r.fail(line_of(*node), "variants must be an array of tables ([[variants]] sections)");
-    for (const toml::node& item : *a) {
-      const toml::table* t = item.as_table();
-      if (t == nullptr) r.fail(line_of(item), "each of variants must be a table ([[variants]])");
-      SweepVariant v;
-      v.line = line_of(item);
-      std::vector<std::pair<std::string, const toml::node*>> keys;
-      r.leaves(*t, "", keys);
-      for (const auto& [key, value] : keys) {
-        if (key == "label") {
-          auto s = value->value_exact<std::string>();
-          if (!s || s->empty()) r.fail(line_of(*value), "variants label must be a non-empty string");
-          v.label = *s;
-          continue;
-        }
-        r.check_key(key, line_of(*value), "variant key");
-        if (const toml::array* values = value->as_array()) {
-          v.own_values.push_back(read_axis(r, key, *value, *values));
-          continue;
-        }
-        v.settings.push_back({key, r.value_text(*value, key), line_of(*value)});
-      }
-      if (v.label.empty()) {
-        for (const SweepSetting& s : v.settings) v.label += (v.label.empty() ? "" : ",") + s.key + "=" + s.value;
-      }
-      spec.variants.push_back(std::move(v));
-    }
-  }
-  if (spec.variants.empty()) spec.variants.push_back({});
-
-  if (const toml::node* node = root.get("grid")) {
-    const toml::table* t = node->as_table();
-    if (t == nullptr) r.fail(line_of(*node), "grid must be a section ([grid])");
-    std::vector<std::pair<std::string, const toml::node*>> keys;
-    r.leaves(*t, "", keys);
-    for (const auto& [key, value] : keys) {
-      r.check_key(key, line_of(*value), "grid key");
-      const toml::array* values = value->as_array();
-      if (values == nullptr)
-        r.fail(line_of(*value), fmt::format("grid {} must be a non-empty array of values, e.g. {} = [1, 2]", key, key));
-      for (const SweepVariant& variant : spec.variants)
-        for (const SweepSetting& s : variant.settings)
-          if (s.key == key)
-            r.fail(line_of(*value), fmt::format("grid {}: also set by the variant at line {} (set it in one place)", key, variant.line));
-      spec.axes.push_back(read_axis(r, key, *value, *values));
-    }
-  }
-  for (const SweepVariant& variant : spec.variants)
-    for (const SweepAxis& own : variant.own_values)
-      if (std::none_of(spec.axes.begin(), spec.axes.end(), [&](const SweepAxis& a) { return a.key == own.key; }))
-        r.fail(own.values.front().line, fmt::format("variant values for {}: not a key of [grid] (a variant's array "
-                                                    "replaces the grid's values for that key)", own.key));
+  check_sections(r, root);
+  if (const toml::node* node = root.get("sweep")) read_sweep_section(r, *node, spec);
+  if (const toml::node* node = root.get("variants")) read_variants(r, *node, spec);
+  if (spec.variants.empty()) spec.variants.push_back({});  // the one empty variant, line 0
+  if (const toml::node* node = root.get("grid")) read_grid(r, *node, spec);
+  check_variant_values(r, spec);
   return spec;
 }
+
+bool has_variants(const SweepSpec& spec) { return spec.variants.size() > 1 || spec.variants.front().line > 0; }
 
 SweepSpec load_sweep(const std::string& path) { return parse_sweep_text(read_text_file(path, "sweep file", kMaxSettingsFileBytes), path); }
 
@@ -231,15 +250,24 @@ std::vector<SweepRun> sweep_runs(const SweepSpec& spec, const std::vector<SweepP
       point_config = load_config(spec.base, overrides);
     } catch (const InputError& e) {
       // "--set system.n: ..." -> "SWEEP:LINE: ..." for the setting at fault.
-      const std::string message = e.what();
+      std::string message = e.what();
       for (const SweepSetting* s : settings) {
         const std::string prefix = "--set " + s->key;
         if (message.rfind(prefix, 0) == 0) {
           std::string rest = message.substr(prefix.size());
           if (rest.rfind("=" + s->value, 0) == 0) rest = rest.substr(1 + s->value.size());
-          if (rest.rfind(": ", 0) == 0) rest = rest.substr(2);
-          r.fail(s->line, rest);
+          if (rest.rfind(": ", 0) == 0) r.fail(s->line, rest.substr(2));
         }
+      }
+      // A rule between several settings: "--set a=1 --set b=2: ..." -> "grid point ...: ...".
+      for (bool stripped = true; stripped;) {
+        stripped = false;
+        for (const std::string& o : overrides)
+          for (const char* end : {" ", ": "})
+            if (message.rfind("--set " + o + end, 0) == 0) {
+              message = message.substr(6 + o.size() + std::string_view(end).size());
+              stripped = true;
+            }
       }
       r.fail(0, fmt::format("grid point {} ({}): {}", p.index, described.empty() ? "the base" : described, message));
     }

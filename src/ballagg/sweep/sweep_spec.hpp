@@ -30,7 +30,7 @@ struct SweepVariant {
   // Arrays in a variant replace the values of a grid key for that variant only (e.g. the
   // costly per-sphere models on the smaller N).
   std::vector<SweepAxis> own_values;
-  int line = 0;
+  int line = 0;  // of its [[variants]]; 0 for the one empty variant of a sweep without
 };
 
 struct SweepSpec {
@@ -60,6 +60,9 @@ struct SweepRun {
 
 SweepSpec parse_sweep_text(const std::string& text, const std::string& source);
 SweepSpec load_sweep(const std::string& path);
+
+// Whether the sweep file has [[variants]] (without, the sweep has one empty variant).
+bool has_variants(const SweepSpec& spec);
 
 // Every point of the sweep: for each variant its grid (the first axis slowest).
 std::vector<SweepPoint> sweep_points(const SweepSpec& spec);

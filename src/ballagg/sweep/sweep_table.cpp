@@ -148,6 +148,7 @@ std::string method_of(const Config& c) {
 double volume_fraction_of(const Config& c) {
   if (c.system.volume_fraction) return *c.system.volume_fraction;  // as given, without round-off
   const double l = resolved_box_length(c), r = c.system.radius, n = static_cast<double>(c.system.n);
+  if (polydisperse(c.system)) return summarize_sampled_radii(c).volume / std::pow(l, c.system.dimension);
   const double sphere = c.system.dimension == 2 ? std::numbers::pi * r * r : 4.0 / 3.0 * std::numbers::pi * r * r * r;
   return n * sphere / std::pow(l, c.system.dimension);
 }
@@ -191,22 +192,43 @@ MeanAndError mean_and_error(const std::vector<double>& values) {
   return m;
 }
 
-void write_sweep_tables(const std::string& out_dir, const SweepSpec& spec, const std::vector<SweepPoint>& points,
-                        const std::vector<SweepRun>& runs) {
-  const int dimension = runs.empty() ? 2 : runs.front().config.system.dimension;
-  const std::vector<Indicator> list = indicators(dimension);
-  // Per point: the indicator values of its finished runs, and their curve tables.
+namespace {
+
+// What the finished runs hold, per point: the indicator values of the runs in the means,
+// their curve tables, the runs cut by a resource limit; and runs.csv.
+struct RunsRead {
   std::map<int, std::vector<std::vector<double>>> values;
   std::map<int, std::vector<NumericTable>> box_tables, pair_tables;
-  std::map<int, const Config*> point_config;
-  std::map<int, int> cut;  // per point: runs stopped by their computing-time limit
+  std::map<int, int> cut;
+  fmt::memory_buffer runs_csv;
+};
 
-  fmt::memory_buffer per_run;
-  fmt::format_to(std::back_inserter(per_run), "point,realization,seed,run,stop_reason");
-  for (const Indicator& ind : list) fmt::format_to(std::back_inserter(per_run), ",{}", ind.name);
-  fmt::format_to(std::back_inserter(per_run), "\n");
+// runs.csv's first columns: the point, its variant (when the sweep file has [[variants]])
+// and its value of each grid key, then the run.
+void runs_csv_header(fmt::memory_buffer& out, const SweepSpec& spec, const std::vector<Indicator>& list) {
+  fmt::format_to(std::back_inserter(out), "point");
+  if (has_variants(spec)) fmt::format_to(std::back_inserter(out), ",variant");
+  for (const SweepAxis& a : spec.axes) fmt::format_to(std::back_inserter(out), ",{}", field(a.key));
+  fmt::format_to(std::back_inserter(out), ",realization,seed,run,stop_reason");
+  for (const Indicator& ind : list) fmt::format_to(std::back_inserter(out), ",{}", ind.name);
+  fmt::format_to(std::back_inserter(out), "\n");
+}
+
+void runs_csv_row(fmt::memory_buffer& out, const SweepSpec& spec, const SweepPoint& p, const SweepRun& r,
+                  const std::string& reason, const std::vector<double>& row) {
+  fmt::format_to(std::back_inserter(out), "{}", r.point);
+  if (has_variants(spec)) fmt::format_to(std::back_inserter(out), ",{}", field(p.variant->label));
+  for (const SweepSetting* s : p.values) fmt::format_to(std::back_inserter(out), ",{}", field(unquoted(s->value)));
+  fmt::format_to(std::back_inserter(out), ",{},{},{},{}", r.realization, r.seed, r.name, reason);
+  for (double v : row) fmt::format_to(std::back_inserter(out), ",{}", num(v));
+  fmt::format_to(std::back_inserter(out), "\n");
+}
+
+RunsRead read_runs(const std::string& out_dir, const SweepSpec& spec, const std::vector<SweepPoint>& points,
+                   const std::vector<SweepRun>& runs, const std::vector<Indicator>& list) {
+  RunsRead read;
+  runs_csv_header(read.runs_csv, spec, list);
   for (const SweepRun& r : runs) {
-    point_config.emplace(r.point, &r.config);
     const fs::path dir = fs::path(out_dir) / "runs" / r.name;
     const std::optional<Json> summary = read_json(dir / "summary.json");
     const std::optional<Json> analysis = read_json(dir / "analysis.json");
@@ -214,20 +236,53 @@ void write_sweep_tables(const std::string& out_dir, const SweepSpec& spec, const
     std::vector<double> row;
     for (const Indicator& ind : list) row.push_back(lookup(std::string(ind.file) == "summary" ? *summary : *analysis, ind));
     const std::string reason = summary->value("stop_reason", std::string());
-    fmt::format_to(std::back_inserter(per_run), "{},{},{},{},{}", r.point, r.realization, r.seed, r.name, reason);
-    for (double v : row) fmt::format_to(std::back_inserter(per_run), ",{}", num(v));
-    fmt::format_to(std::back_inserter(per_run), "\n");
+    runs_csv_row(read.runs_csv, spec, points[r.point], r, reason, row);
     // A run stopped by stop.wall_seconds or an output cap (resource limits, not criteria of
     // the state the sweep asks for) did not reach that state: listed in runs.csv, left out
     // of the means.
     if (reason == "wall_seconds" || reason == "output_limit") {
-      ++cut[r.point];
+      ++read.cut[r.point];
       continue;
     }
-    values[r.point].push_back(std::move(row));
-    if (auto t = read_numeric_csv(dir / "box_counting.csv")) box_tables[r.point].push_back(std::move(*t));
-    if (auto t = read_numeric_csv(dir / "pair_distribution.csv")) pair_tables[r.point].push_back(std::move(*t));
+    read.values[r.point].push_back(std::move(row));
+    if (auto t = read_numeric_csv(dir / "box_counting.csv")) read.box_tables[r.point].push_back(std::move(*t));
+    if (auto t = read_numeric_csv(dir / "pair_distribution.csv")) read.pair_tables[r.point].push_back(std::move(*t));
   }
+  return read;
+}
+
+// sweep.csv's row of one point: its identity, its configuration, then mean and error of
+// each indicator.
+void sweep_csv_row(fmt::memory_buffer& table, const SweepPoint& p, const Config& c, const RunsRead& read,
+                   std::size_t indicators) {
+  fmt::format_to(std::back_inserter(table), "{},{}", p.index, field(p.variant->label));
+  for (const SweepSetting* s : p.values) fmt::format_to(std::back_inserter(table), ",{}", field(unquoted(s->value)));
+  static const std::vector<std::vector<double>> none;
+  const auto found = read.values.find(p.index);
+  const std::vector<std::vector<double>>& v = found != read.values.end() ? found->second : none;
+  const auto cut = read.cut.find(p.index);
+  fmt::format_to(std::back_inserter(table), ",{},{},{},{},{},{},{},{}", method_of(c), c.system.dimension, c.system.n,
+                 num(volume_fraction_of(c)), num(resolved_box_length(c)),
+                 c.engine.kind == EngineKind::ts ? num(c.ts.dt_factor) : "nan", v.size(),
+                 cut != read.cut.end() ? cut->second : 0);
+  for (std::size_t k = 0; k < indicators; ++k) {
+    std::vector<double> xs;
+    for (const std::vector<double>& row : v) xs.push_back(row[k]);
+    const MeanAndError m = mean_and_error(xs);
+    fmt::format_to(std::back_inserter(table), ",{},{}", num(m.mean), num(m.error));
+  }
+  fmt::format_to(std::back_inserter(table), "\n");
+}
+
+}  // namespace
+
+void write_sweep_tables(const std::string& out_dir, const SweepSpec& spec, const std::vector<SweepPoint>& points,
+                        const std::vector<SweepRun>& runs) {
+  const int dimension = runs.empty() ? 2 : runs.front().config.system.dimension;
+  const std::vector<Indicator> list = indicators(dimension);
+  RunsRead read = read_runs(out_dir, spec, points, runs, list);
+  std::map<int, const Config*> point_config;
+  for (const SweepRun& r : runs) point_config.emplace(r.point, &r.config);
 
   fmt::memory_buffer table;
   fmt::format_to(std::back_inserter(table), "point,variant");
@@ -239,24 +294,11 @@ void write_sweep_tables(const std::string& out_dir, const SweepSpec& spec, const
   fmt::format_to(std::back_inserter(boxes), "point,level,eps,fitted,boxes_all_mean,boxes_all_sem,boxes_largest_mean,boxes_largest_sem\n");
   fmt::format_to(std::back_inserter(pairs), "point,r_over_R,P_all_mean,P_all_sem,P_largest_mean,P_largest_sem\n");
   for (const SweepPoint& p : points) {
-    const Config& c = *point_config.at(p.index);
-    fmt::format_to(std::back_inserter(table), "{},{}", p.index, field(p.variant->label));
-    for (const SweepSetting* s : p.values) fmt::format_to(std::back_inserter(table), ",{}", field(unquoted(s->value)));
-    const std::vector<std::vector<double>>& v = values[p.index];
-    fmt::format_to(std::back_inserter(table), ",{},{},{},{},{},{},{},{}", method_of(c), c.system.dimension, c.system.n,
-                   num(volume_fraction_of(c)), num(resolved_box_length(c)),
-                   c.engine.kind == EngineKind::ts ? num(c.ts.dt_factor) : "nan", v.size(), cut[p.index]);
-    for (std::size_t k = 0; k < list.size(); ++k) {
-      std::vector<double> xs;
-      for (const std::vector<double>& row : v) xs.push_back(row[k]);
-      const MeanAndError m = mean_and_error(xs);
-      fmt::format_to(std::back_inserter(table), ",{},{}", num(m.mean), num(m.error));
-    }
-    fmt::format_to(std::back_inserter(table), "\n");
-    curve_rows(boxes, p.index, box_tables[p.index], {"level", "eps", "fitted"}, {"boxes_all", "boxes_largest"});
-    curve_rows(pairs, p.index, pair_tables[p.index], {"r_over_R"}, {"P_all", "P_largest"});
+    sweep_csv_row(table, p, *point_config.at(p.index), read, list.size());
+    curve_rows(boxes, p.index, read.box_tables[p.index], {"level", "eps", "fitted"}, {"boxes_all", "boxes_largest"});
+    curve_rows(pairs, p.index, read.pair_tables[p.index], {"r_over_R"}, {"P_all", "P_largest"});
   }
-  write_file_atomically(out_dir, "runs.csv", fmt::to_string(per_run));
+  write_file_atomically(out_dir, "runs.csv", fmt::to_string(read.runs_csv));
   write_file_atomically(out_dir, "sweep_box_counting.csv", fmt::to_string(boxes));
   write_file_atomically(out_dir, "sweep_pair_distribution.csv", fmt::to_string(pairs));
   write_file_atomically(out_dir, "sweep.csv", fmt::to_string(table));

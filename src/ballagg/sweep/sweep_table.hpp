@@ -1,10 +1,11 @@
 #pragma once
 // The tables of a sweep directory (docs/sweeps.md), from the runs' summary.json and
-// analysis files: runs.csv (one row per run, every indicator), sweep.csv (one row per grid
-// point: mean and standard deviation of the mean of each indicator over its realizations),
-// sweep_box_counting.csv and sweep_pair_distribution.csv (the curves N(eps) and P(r),
-// averaged likewise). Runs stopped by stop.wall_seconds are listed in runs.csv but left
-// out of the means (counted in sweep.csv's runs_cut).
+// analysis files: runs.csv (one row per run: its variant and grid values, every
+// indicator), sweep.csv (one row per grid point: mean and standard deviation of the mean
+// of each indicator over its realizations), sweep_box_counting.csv and
+// sweep_pair_distribution.csv (the curves N(eps) and P(r), averaged likewise). Runs
+// stopped by stop.wall_seconds are listed in runs.csv but left out of the means (counted
+// in sweep.csv's runs_cut).
 #include <string>
 #include <vector>
 

@@ -54,10 +54,14 @@ double fitted_skin(const State<D>& s, double requested, double fallback, SkinLim
   return std::min(skin, limit);
 }
 
-// The width of the grid's cells for this skin.
+// The width of the grid's cells for this skin and spheres of radius at most
+// `largest_radius`.
+inline double binning_cell_size(double largest_radius, double skin) {
+  return 2.0 * largest_radius + kBinnedReachInSkins * skin;
+}
 template <int D>
 double binning_cell_size(const State<D>& s, double skin) {
-  return 2.0 * s.max_radius() + kBinnedReachInSkins * skin;
+  return binning_cell_size(s.max_radius(), skin);
 }
 
 // Calls found(j) for every sphere j of another cluster than ci that within_reach(j) puts

@@ -23,15 +23,19 @@ RigidBodyCore<D>::RigidBodyCore(State<D>& state, const RigidBodySettings& settin
     w.angular_momentum = r.get<Spin<D>>("angular momentum");
   }
   bodies_.restore(r, m, n);
-  grid_ = std::make_unique<CellGrid<D>>(s_.box, binning_cell_size(s_, keeper_.skin()), n);
+  grid_radius_ = binned_radius();
+  grid_ = std::make_unique<CellGrid<D>>(s_.box, binning_cell_size(grid_radius_, keeper_.skin()), n);
   if (r.get<double>("cell size") != grid_->cell_size()) r.fail("cell grid for another largest radius or skin");
   grid_->restore(r);
   lists_.reset(n, m);
   lists_.restore(r);
   calendar_.reset(m);
+  // Each coalescence takes one sphere id away (the last), and stale events may still name
+  // it: they are never handled (valid() asks for an id below the sphere count first).
+  const std::int64_t ids = n + (settings_.law.coagulation == Coagulation::sphere ? std::max<std::int64_t>(count_.merges, 0) : 0);
   calendar_.restore(r, [&](const Event& e) {
-    const bool ok = e.kind == EventKind::collision        ? e.a >= 0 && e.a < e.b && e.b < n
-                    : e.kind == EventKind::wall           ? e.a >= 0 && e.a < n && e.b >= 0 && e.b < 2 * D
+    const bool ok = e.kind == EventKind::collision        ? e.a >= 0 && e.a < e.b && e.b < ids
+                    : e.kind == EventKind::wall           ? e.a >= 0 && e.a < ids && e.b >= 0 && e.b < 2 * D
                     : e.kind == EventKind::contact_search ? e.a >= 0 && e.a < m && e.b >= -2 * D && e.b < m && e.b != e.a
                     : e.kind == EventKind::list_rebuild && e.a >= 0 && e.a < m;
     if (!ok) r.fail("an event that names no sphere, body or wall");

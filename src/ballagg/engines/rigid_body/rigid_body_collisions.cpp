@@ -156,30 +156,88 @@ void RigidBodyCore<D>::check_span(int c) {
 
 template <int D>
 int RigidBodyCore<D>::coalesce(int i, int j, double t, int& merges) {
+  renumbered_.clear();
+  int merged = std::min(i, j);
+  int keep = merge_spheres(i, j, t);
+  ++merges;
+  // A grown sphere may overlap its neighbours: they join it at once.
+  for (int p = sphere_touching(merged, t); p >= 0; p = sphere_touching(merged, t)) {
+    keep = merge_spheres(merged, p, t);
+    merged = std::min(merged, p);
+    ++merges;
+  }
+  if (s_.max_radius() > grid_radius_) {
+    build_spatial();
+    return keep;
+  }
+  std::sort(renumbered_.begin(), renumbered_.end());
+  renumbered_.erase(std::unique(renumbered_.begin(), renumbered_.end()), renumbered_.end());
+  for (int b : renumbered_)
+    if (b != keep && s_.clusters[b].alive()) predict(b);
+  predict(keep);
+  return keep;
+}
+
+template <int D>
+int RigidBodyCore<D>::merge_spheres(int i, int j, double t) {
   const double r0 = s_.spheres.radius[i], r1 = s_.spheres.radius[j];
   const double radius = settings_.law.merged_radius == MergedRadius::fixed ? r0 : std::cbrt(r0 * r0 * r0 + r1 * r1 * r1);
   for (int sphere : {i, j})
     if (!merged_sphere_[sphere]) free_mass_ -= s_.spheres.mass[sphere];
-  const int lo = std::min(i, j), hi = std::max(i, j);
+  const int lo = std::min(i, j), hi = std::max(i, j), last = s_.n_spheres() - 1;
   const int keep = body_of(lo), gone = body_of(hi);
+  detach_sphere(lo);
+  detach_sphere(hi);
+  if (last != hi) detach_sphere(last);
   const int moved = bodies_.coalesce(s_, lo, hi, radius, settings_.merged_speed(), t);
   merged_sphere_[lo] = 1;
   if (moved >= 0) merged_sphere_[hi] = merged_sphere_[moved];
   merged_sphere_.pop_back();
+  grid_->pop_back();
+  lists_.pop_back();
+  calendar_.forget(gone);
+  keeper_.reset(keep, t);
+  forget_pose(keep);
+  forget_pose(gone);
+  attach_sphere(lo, t);
+  if (moved >= 0) {
+    attach_sphere(hi, t);
+    renumbered_.push_back(body_of(hi));
+  }
   empty_.push_back(gone);
-  ++merges;
   ++count_.merges;
   serial_[keep] = next_serial_++;
   partner_[keep] = -1;
-  build_spatial();
-  // A grown sphere may overlap its neighbours: they join it at once.
-  for (int p = 0; p < s_.n_spheres(); ++p) {
-    if (p == lo) continue;
-    const double sigma = (s_.spheres.radius[lo] + s_.spheres.radius[p]) * (1.0 + tolerance::kContact);
-    if (s_.box.separation(s_.origin(keep, t), s_.origin(body_of(p), t)).squaredNorm() <= sigma * sigma)
-      return coalesce(lo, p, t, merges);
-  }
   return keep;
+}
+
+template <int D>
+int RigidBodyCore<D>::sphere_touching(int i, double t) {
+  const int c = body_of(i);
+  const Vec<D> xi = unwrapped_position(i, t);
+  int touching = -1;
+  // The grid's cells are at least 2 grid_radius_ + a skin wide: every sphere that can
+  // touch i is binned in a cell next to i's.
+  grid_->for_each_near_image(s_.box.wrap(xi), c, [&](int p, const Vec<D>&) {
+    if (touching >= 0 && p > touching) return;
+    const double sigma = (s_.spheres.radius[i] + s_.spheres.radius[p]) * (1.0 + tolerance::kContact);
+    if (s_.box.separation(xi, unwrapped_position(p, t)).squaredNorm() <= sigma * sigma) touching = p;
+  });
+  return touching;
+}
+
+template <int D>
+void RigidBodyCore<D>::detach_sphere(int i) {
+  lists_.remove_all_pairs(i, s_.spheres.cluster.data());
+  grid_->remove(i);
+}
+
+template <int D>
+void RigidBodyCore<D>::attach_sphere(int i, double t) {
+  grid_->set_tag(i, body_of(i));
+  grid_->insert(i, s_.box.wrap(unwrapped_position(i, t)));
+  const std::int32_t* cluster = s_.spheres.cluster.data();
+  for_each_foreign_near(i, t, [&](int j) { return !lists_.listed(i, j); }, [&](int j) { lists_.add_pair(i, j, cluster); });
 }
 
 template <int D>
@@ -217,6 +275,14 @@ template void RigidBodyCore<2>::check_span(int);
 template void RigidBodyCore<3>::check_span(int);
 template int RigidBodyCore<2>::coalesce(int, int, double, int&);
 template int RigidBodyCore<3>::coalesce(int, int, double, int&);
+template int RigidBodyCore<2>::merge_spheres(int, int, double);
+template int RigidBodyCore<3>::merge_spheres(int, int, double);
+template int RigidBodyCore<2>::sphere_touching(int, double);
+template int RigidBodyCore<3>::sphere_touching(int, double);
+template void RigidBodyCore<2>::detach_sphere(int);
+template void RigidBodyCore<3>::detach_sphere(int);
+template void RigidBodyCore<2>::attach_sphere(int, double);
+template void RigidBodyCore<3>::attach_sphere(int, double);
 template void RigidBodyCore<2>::fragment(int, double, double);
 template void RigidBodyCore<3>::fragment(int, double, double);
 

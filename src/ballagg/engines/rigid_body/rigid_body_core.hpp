@@ -161,9 +161,18 @@ class RigidBodyCore : public CalendarDispatch<RigidBodyCore<D>> {
   // valid.
   bool within_reach(int i, const Vec<D>& xi, int j, double t);
 
-  // Grid, lists, drifts and every prediction from scratch (start, and after each sphere
-  // coalescence, which renumbers a sphere).
+  // Grid, lists, drifts and every prediction from scratch (start, and when coalescence
+  // grows a sphere beyond the radius the grid was built for).
   void build_spatial();
+
+  // The largest sphere radius the grid's cells are sized for. Coalescence grows spheres:
+  // the grid is then sized for the next power of two of the largest radius, so that it is
+  // built again only when that radius doubles (a function of the state alone, so a
+  // checkpoint restores the very grid).
+  double binned_radius() const {
+    if (settings_.law.coagulation != Coagulation::sphere) return s_.max_radius();
+    return std::exp2(std::ceil(std::log2(s_.max_radius())));
+  }
 
   // Drops the pairs of sphere i that are out of reach at time t. Removal swaps the last
   // partner into the hole, so walking the list from its end visits every entry once.
@@ -242,9 +251,22 @@ class RigidBodyCore : public CalendarDispatch<RigidBodyCore<D>> {
   void check_span(int c);
 
   // Sphere coagulation (models i-ii): the pair and every sphere it then touches become one
-  // sphere. Sphere ids change, so the lists and predictions are rebuilt: O(N) per merge,
-  // meant for the test models.
+  // sphere. Only the spheres whose size, place or id changes are taken out of the grid and
+  // the lists and put back, and only their bodies predicted again: the cost of a merge is
+  // that of a few list rebuilds, not of the whole system.
   int coalesce(int i, int j, double t, int& merges);
+
+  // One coalescence of spheres i and j at time t; the sphere with the higher id leaves and
+  // the last sphere takes its id (State::coalesce_spheres). Returns the merged body.
+  int merge_spheres(int i, int j, double t);
+
+  // The lowest-id sphere of another body that sphere i (just grown) touches at time t, or -1.
+  int sphere_touching(int i, double t);
+
+  // Takes sphere i out of the lists and the grid; puts it back (after its body, id or size
+  // changed) with its foreign neighbours found anew.
+  void detach_sphere(int i);
+  void attach_sphere(int i, double t);
 
   // Catastrophic breakup (§2.6) of body c just made at time t: its spheres fly apart with
   // `released` kinetic energy given back. Their mutual contacts become foreign pairs.
@@ -267,6 +289,8 @@ class RigidBodyCore : public CalendarDispatch<RigidBodyCore<D>> {
   std::int64_t next_serial_ = 0;
   std::vector<std::int32_t> empty_;                   // ids of clusters without members
   std::vector<char> merged_sphere_;                   // sphere made by coalescence
+  std::vector<std::int32_t> renumbered_;              // bodies whose sphere changed id in a coalescence
+  double grid_radius_ = 0.0;                          // binned_radius() when the grid was built
   double free_mass_ = 0.0, total_mass_ = 0.0;         // mass in unaggregated spheres
   double aggregated_target_ = kNever;
   bool spans_box_ = false;

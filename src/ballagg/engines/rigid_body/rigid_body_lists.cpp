@@ -18,7 +18,8 @@ void RigidBodyCore<D>::build_spatial() {
   const int n = s_.n_spheres();
   const int m = static_cast<int>(s_.clusters.size());
   const double t = s_.time;
-  grid_ = std::make_unique<CellGrid<D>>(s_.box, binning_cell_size(s_, keeper_.skin()), n);
+  grid_radius_ = binned_radius();
+  grid_ = std::make_unique<CellGrid<D>>(s_.box, binning_cell_size(grid_radius_, keeper_.skin()), n);
   pose_time_.assign(m, std::numeric_limits<double>::quiet_NaN());
   pose_.resize(m);
   keeper_.assign(m);

@@ -1,0 +1,85 @@
+#!/usr/bin/python3
+"""The kinetic exponents of dilute ballistic aggregation, n(t) ~ t^-z and E(t) ~ t^-theta,
+over realizations: coalescing spheres (rigid-body engine, collision.coagulation = "sphere",
+constant density) and fractal rigid clusters (ed), in 2D and 3D.
+
+Each realization is `ballagg run` (periodic box, random start, Gaussian velocities, zero
+total momentum, to 20 clusters) and `ballagg analyze --kinetics` (the automatic window,
+docs/analysis.md "Kinetics"). Prints a Markdown table: the mean of z and theta over the
+realizations with the standard deviation of the mean, the mean of the per-run fit errors,
+and the mean-field z for coalescing spheres, 2d/(d+2).
+
+Usage: bench/kinetics_exponents.py [--realizations 10] [--cases 2d-spheres ...] [--n N]
+Only the Python standard library is used.
+"""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from ed_scaling import BINARY, machine  # noqa: E402
+
+GAS = ["system.boundary=periodic", "initial.positions=random", "initial.velocities=gaussian",
+       "initial.zero_momentum=true", "stop.clusters=20", "output.xyz=false"]
+SPHERES = ["engine.kind=rigid-body", "collision.coagulation=sphere", "collision.merged_radius=constant-density"]
+CASES = {
+    "2d-spheres": ("2D, coalescing spheres", 2, 0.01, SPHERES),
+    "3d-spheres": ("3D, coalescing spheres", 3, 0.005, SPHERES),
+    "2d-fractal": ("2D, fractal rigid clusters (ed)", 2, 0.01, ["engine.kind=ed"]),
+    "3d-fractal": ("3D, fractal rigid clusters (ed)", 3, 0.005, ["engine.kind=ed"]),
+}
+
+
+def realization(case, n, seed):
+    _, dimension, vf, sets = CASES[case]
+    with tempfile.TemporaryDirectory() as out:
+        run = os.path.join(out, "run")
+        cmd = [BINARY, "run", "-q", "--out", run, "--seed", str(seed), "--set", f"system.dimension={dimension}",
+               "--set", f"system.n={n}", "--set", f"system.volume_fraction={vf}"]
+        for s in GAS + sets:
+            cmd += ["--set", s]
+        subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, env={**os.environ, "OMP_NUM_THREADS": "1"})
+        subprocess.run([BINARY, "analyze", "-q", run, "--kinetics"], check=True, stdout=subprocess.DEVNULL)
+        with open(os.path.join(run, "kinetics.json")) as f:
+            return json.load(f)
+
+
+def mean_and_sem(values):
+    if len(values) < 2:
+        return (values[0] if values else float("nan")), float("nan")
+    return statistics.mean(values), statistics.stdev(values) / len(values) ** 0.5
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("--realizations", type=int, default=10)
+    p.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
+    p.add_argument("--n", type=int, default=20000)
+    args = p.parse_args()
+    if not os.path.exists(BINARY):
+        sys.exit(f"{BINARY} not found: run `make build` first")
+    print(f"machine: {machine()}, load average {os.getloadavg()[0]:.1f} at the start")
+    print(f"command: bench/kinetics_exponents.py {' '.join(sys.argv[1:])}".rstrip())
+    print()
+    print("| case | N | Vf | realizations | z (mean ± SEM) | mean fit error of z | theta (mean ± SEM) | "
+          "mean-field z, coalescing spheres |")
+    print("|---|---|---|---|---|---|---|---|")
+    for case in args.cases:
+        label, dimension, vf, _ = CASES[case]
+        fits = [realization(case, args.n, seed) for seed in range(1, args.realizations + 1)]
+        z = [f["clusters_decay_z"]["exponent"] for f in fits if f["clusters_decay_z"]["exponent"] is not None]
+        theta = [f["energy_decay_theta"]["exponent"] for f in fits if f["energy_decay_theta"]["exponent"] is not None]
+        fit_error = statistics.mean(f["clusters_decay_z"]["exponent_error"] for f in fits
+                                    if f["clusters_decay_z"]["exponent_error"] is not None)
+        zm, ze = mean_and_sem(z)
+        tm, te = mean_and_sem(theta)
+        print(f"| {label} | {args.n} | {vf} | {len(z)} | {zm:.3f} ± {ze:.3f} | {fit_error:.3f} | {tm:.3f} ± {te:.3f} | "
+              f"{2 * dimension / (dimension + 2):.3f} |", flush=True)
+
+
+if __name__ == "__main__":
+    main()
