@@ -217,7 +217,7 @@ RunResult Simulation<D>::run_engine(const py::object& self, const py::object& ca
     last_counters_ = observer.last();
     // As the engines end a run at stop.time: the observers hear of the time, the state
     // moves there (positions are lazy), and the run finishes.
-    const RunResult r{StopReason::time, observer.last(), 0.0};
+    const RunResult r{StopReason::time, observer.last(), {}, 0.0};
     RunObserver<D>& recorders = files ? static_cast<RunObserver<D>&>(files->recorders()) : no_recorders;
     if (!std::isnan(stopped.time)) {
       recorders.before_event(state_, stopped.time);

@@ -454,8 +454,8 @@ void expect_cheap_exact_coalescence(Boundary boundary) {
   const double mass = s.total_mass();
   const Vec<D> p0 = s.momentum();
   const double scale = s.momentum_scale();
-  RigidBodySettings law;
-  law.coagulation = Coagulation::sphere;
+  RigidBodySettings settings;
+  settings.law.coagulation = Coagulation::sphere;
   Watcher<D> w;
   double worst = -1.0;
   w.check = [&](const State<D>& st, const EventRecord& e) {
@@ -463,7 +463,7 @@ void expect_cheap_exact_coalescence(Boundary boundary) {
   };
   StopCriteria stop;
   stop.clusters = 80;
-  const RunResult r = run_rigid(s, law, stop, w);
+  const RunResult r = run_rigid(s, settings, stop, w);
   EXPECT_EQ(s.n_clusters(), 80);
   EXPECT_GT(s.max_radius(), 2.0 * 0.5);
   EXPECT_NEAR(s.total_mass(), mass, 1e-12 * mass);
@@ -471,7 +471,7 @@ void expect_cheap_exact_coalescence(Boundary boundary) {
     EXPECT_LT((s.momentum() - p0).norm(), 1e-12 * scale);
   }
   EXPECT_LT(worst, 1e-9);
-  EXPECT_LT(static_cast<double>(r.counters.pair_predictions), kPredictionsPerMerge * r.counters.merges);
+  EXPECT_LT(static_cast<double>(r.count("pair_predictions")), kPredictionsPerMerge * r.counters.merges);
 }
 
 TEST(RigidBodyEngine, SphereCoalescenceIsLocalExactAndConservative) {
