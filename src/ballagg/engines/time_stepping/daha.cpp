@@ -240,12 +240,16 @@ void damped_velocity_step(const DahaParameters& p, std::vector<Vec<D>>& u,
 }
 
 // (3.27), per variable, in units of the length scale: the largest of the squared moves,
-// one square root (the same value as the largest of the norms).
+// one square root (the same value as the largest of the norms). A move that is not a
+// number makes the result one (std::max would skip it), so that an iteration that has
+// diverged never passes (3.27): the overlaps of (3.28) skip such pairs too.
 template <int D>
 double largest_move(const std::vector<Vec<D>>& u, const std::vector<Vec<D>>& previous) {
   double largest_squared_move = 0.0;
-  for (std::size_t k = 0; k < u.size(); ++k)
-    largest_squared_move = std::max(largest_squared_move, (u[k] - previous[k]).squaredNorm());
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    const double squared_move = (u[k] - previous[k]).squaredNorm();
+    if (squared_move > largest_squared_move || std::isnan(squared_move)) largest_squared_move = squared_move;
+  }
   return std::sqrt(largest_squared_move);
 }
 
