@@ -254,8 +254,8 @@ auto checkpoint_maker(const Config& config, std::string_view engine, double earl
 
 // A new run that fails without a result (bad input found during the run, a state that is
 // not finite) leaves nothing behind, as input rejected before the run: its trajectories'
-// temporary files, its checkpoints, the lock (first) and the directory if the run created
-// it. A resumed run's directory keeps what it held.
+// temporary files and its checkpoints go, then the lock, then the directory if the run
+// created it. A resumed run's directory keeps what it held.
 template <int D>
 void discard_new_run(std::optional<NewRunDirectory>& fresh, std::unique_ptr<SnapshotRecorder<D>>& snapshots,
                      const std::string& dir) {

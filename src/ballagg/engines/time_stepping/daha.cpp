@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <utility>
 
 namespace ballagg {
 namespace {
@@ -170,8 +169,8 @@ void add_pair_forces(const DahaProblem<D>& prob, const DahaParameters& p, const 
 // 2 - c - delta (1 - c) g, stable if and only if g < 2 (2 - c) / (delta (1 - c)): 1.43 for
 // the rigid model's defaults, 1.91 for the per-sphere ones. A variable's stiffness sums
 // the |dF/dd| of its pairs, so K <= stiffness and g <= its inverse mass. With equal masses
-// no variable is lighter than a sphere, g <= 1, and the parameters are tuned there (two
-// free spheres, whose gains add, sit near the bound). A sphere ten times lighter than the
+// no variable is lighter than a sphere, g <= 1, and the parameters are tuned there (the
+// fastest sets lie near the bound). A sphere ten times lighter than the
 // mean would take g up to 10, and its velocity would grow 17-fold per iteration (rigid
 // defaults) until it overflowed. Dividing every inverse mass of the problem by the largest
 // keeps every gain within the tuned ones whatever the mass ratio, and keeps the ratios:
@@ -191,16 +190,13 @@ std::vector<double> stable_inverse_masses(const std::vector<double>& inverse_mas
 template <int D>
 struct DahaIterate {
   DahaIterate(const std::vector<double>& problem_inverse_mass, bool per_variable_damping)
-      : DahaIterate(static_cast<int>(problem_inverse_mass.size()), per_variable_damping,
-                    stable_inverse_masses(problem_inverse_mass)) {}
-  DahaIterate(int n_vars, bool per_variable_damping, std::vector<double> stable_inverse_mass)
-      : velocity(n_vars, Vec<D>::Zero()),
-        force(n_vars),
-        previous(n_vars),
-        stiffness(n_vars),
-        inverse_mass(std::move(stable_inverse_mass)),
-        stats{std::vector<double>(per_variable_damping ? n_vars : 0),
-              std::vector<double>(per_variable_damping ? n_vars : 0)} {}
+      : velocity(problem_inverse_mass.size(), Vec<D>::Zero()),
+        force(problem_inverse_mass.size()),
+        previous(problem_inverse_mass.size()),
+        stiffness(problem_inverse_mass.size()),
+        inverse_mass(stable_inverse_masses(problem_inverse_mass)),
+        stats{std::vector<double>(per_variable_damping ? problem_inverse_mass.size() : 0),
+              std::vector<double>(per_variable_damping ? problem_inverse_mass.size() : 0)} {}
   std::vector<Vec<D>> velocity, force, previous;
   // Diagonal (Jacobi) scaling: the force on a variable held by stiff constraints (many of
   // them, or large multipliers) changes fast with its position, and the explicit update
@@ -224,8 +220,7 @@ void half_step_positions(std::vector<Vec<D>>& u, DahaIterate<D>& it, double half
 // (3.21) the velocity update by the scaled force, (3.22) the damping c_i of (3.29), and
 // (3.23) X^{r+1} = X^{r+1/2} + delta / 2 V^{r+1}.
 template <int D>
-void damped_velocity_step(const DahaParameters& p, std::vector<Vec<D>>& u,
-                          DahaIterate<D>& it, double half) {
+void damped_velocity_step(const DahaParameters& p, std::vector<Vec<D>>& u, DahaIterate<D>& it, double half) {
   const bool per_variable_damping = !it.stats.sum.empty();
   for (std::size_t k = 0; k < u.size(); ++k) {
     it.velocity[k] += it.inverse_mass[k] / std::max(1.0, it.stiffness[k]) * it.force[k];
@@ -295,7 +290,7 @@ DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<V
     keep_within_walls(prob, u, it.velocity);
     if (!prob.position.empty()) add_global_attraction(prob, u, p.alpha, it.force, it.stiffness);
     add_pair_forces(prob, p, u, it.force, it.stiffness);  // (3.21)
-    damped_velocity_step(p, u, it, half);            // (3.21)-(3.23)
+    damped_velocity_step(p, u, it, half);                  // (3.21)-(3.23)
     keep_within_walls(prob, u, it.velocity);
     update_multipliers(prob, u, dynamic_beta(p, prob.n_spheres, it.stats.mean), it.stats);  // (3.24)
     result.converged = largest_move(u, it.previous) <= p.eps_s && it.stats.max <= p.eps_c;  // (3.27), (3.28)
