@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "ballagg/core/finite_state.hpp"
 #include "ballagg/initial/initial_state.hpp"
 #include "ballagg/io/output_dir.hpp"
 #include "ballagg/io/timeseries.hpp"
@@ -210,6 +211,7 @@ RunResult Simulation<D>::run_engine(const py::object& self, const py::object& ca
   PythonObserver<D> observer(callback, when, self, view_, files ? files->recorders() : no_recorders);
   try {
     const RunResult r = engine_->run(state_, stop, observer);
+    throw_if_not_finite(state_, engine_->name(), first_non_finite(state_));  // no NaN handed back
     if (files) files->write_timeseries();
     return r;
   } catch (const StoppedByCallback& stopped) {

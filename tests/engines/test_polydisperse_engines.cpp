@@ -1,7 +1,7 @@
 // Every engine runs a start of spheres with drawn radii (system.radius_distribution) to half
 // as many clusters: the mass and the momentum are kept, no pair overlaps beyond what the
 // engine allows, and the spheres keep their drawn radii and masses. Laws of moderate width
-// (radii within a factor of about 3): see docs/configuration.md for ts with wider ones.
+// (radii within a factor of about 3); test_ts_mass_ratio.cpp runs ts with wider ones.
 #include <algorithm>
 #include <cmath>
 #include <string>

@@ -91,6 +91,14 @@ bool is_run_file(std::string_view name) {
   return is_final_name(name);
 }
 
+void remove_run_files(const std::string& dir) {
+  std::error_code ec;
+  std::vector<fs::path> paths;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir, ec))
+    if (is_run_file(e.path().filename().string())) paths.push_back(e.path());
+  for (const fs::path& path : paths) fs::remove(path, ec);
+}
+
 NewRunDirectory open_new_run_directory(const std::string& dir, bool overwrite) {
   const bool created = prepare_output_dir(dir);
   try {

@@ -18,6 +18,11 @@ namespace ballagg {
 // and the temporary file .NAME.tmp of any of them.
 bool is_run_file(std::string_view name);
 
+// Removes every run file (is_run_file) in `dir`, quietly: what a new run that failed had
+// written (run_simulation), never another run's (a new run's directory holds none at its
+// start).
+void remove_run_files(const std::string& dir);
+
 // A directory ready for a new run and locked for it.
 struct NewRunDirectory {
   DirectoryLock lock;

@@ -14,6 +14,7 @@
 #include "ballagg/analysis/overlap.hpp"
 #include "ballagg/collision/contact_time.hpp"
 #include "ballagg/core/byte_stream.hpp"
+#include "ballagg/core/finite_state.hpp"
 #include "ballagg/core/state_codec.hpp"
 #include "ballagg/core/version.hpp"
 #include "ballagg/engines/event_driven/event_driven_engine.hpp"
@@ -215,6 +216,22 @@ auto checkpoint_maker(const Config& config, std::string_view engine, double earl
                                                             : std::string("the run's files were not written")));
 }
 
+// A new run that fails without a result (bad input found during the run, a state that is
+// not finite) leaves nothing behind, as input rejected before the run: its trajectories'
+// temporary files and its checkpoints go, then the lock, then the directory if the run
+// created it. A resumed run's directory keeps what it held.
+template <int D>
+void discard_new_run(std::optional<NewRunDirectory>& fresh, std::unique_ptr<SnapshotRecorder<D>>& snapshots,
+                     const std::string& dir) {
+  if (!fresh) return;
+  snapshots.reset();
+  remove_run_files(dir);  // the directory held none at the start (open_new_run_directory)
+  const bool created = fresh->created;
+  fresh.reset();
+  std::error_code ec;
+  if (created) std::filesystem::remove(dir, ec);
+}
+
 // The files of a finished run, summary.json last; its checkpoint goes (nothing to resume).
 template <int D>
 void write_run_files(const std::string& dir, const Config& config, std::string_view engine, const Totals<D>& initial,
@@ -295,12 +312,12 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
   try {
     guard.start_clock();
     result = engine->run(state, stop, observers);
-  } catch (const InputError&) {
-    // Bad input found during the run (coefficients that would create energy): leave
-    // nothing behind, as for input rejected before the run.
-    std::error_code ec;
-    fresh.reset();  // the lock file goes first
-    if (created) std::filesystem::remove(dir, ec);
+    if (result.reason != StopReason::interrupted) throw_if_not_finite(state, engine->name(), first_non_finite(state));
+  } catch (const InputError&) {  // found during the run (coefficients that would create energy)
+    discard_new_run(fresh, snapshots, dir);
+    throw;
+  } catch (const NonFiniteState&) {  // a numerical failure: no file may show it
+    discard_new_run(fresh, snapshots, dir);
     throw;
   }
   if (result.reason == StopReason::interrupted) {

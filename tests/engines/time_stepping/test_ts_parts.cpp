@@ -446,6 +446,38 @@ TEST(Daha, OverlappingPairEndsTouchingWithTheEquilibriumMultiplier) {
   EXPECT_NEAR((u[0] + u[1]).norm(), 0.0, 1e-12);  // equal masses: the centre stays
 }
 
+// A sphere 10 times lighter than the mean sphere overlapping one 25 times heavier (a mass
+// ratio of 250), under each model's parameters: the minimisation converges to touching
+// spheres, the heavy one moving 250 times less, so that their centre of mass stays put.
+// (Mass-weighted steps taken with the mean sphere as unit gave the light sphere 10 times
+// the stable gain, and its velocity grew without bound.)
+TEST(Daha, LightSphereAgainstAHeavyOneConvergesAndKeepsTheCentreOfMass) {
+  for (TsModel model : {TsModel::rigid, TsModel::non_rigid}) {
+    DahaProblem<2> p = overlapping_pair(0.4);
+    p.inverse_mass = {10.0, 0.04};
+    const DahaParameters params = default_daha(model);
+    std::vector<Vec<2>> u;
+    const DahaResult r = minimise(p, params, u);
+    ASSERT_TRUE(r.converged) << to_string(model);
+    EXPECT_LT(r.iterations, 500) << to_string(model);
+    EXPECT_NEAR((p.pairs[0].base + u[0] - u[1]).norm(), 1.0, params.eps_c) << to_string(model);
+    EXPECT_NEAR((u[0] / 10.0 + u[1] / 0.04).norm(), 0.0, 1e-9) << to_string(model);  // sum of m u
+  }
+}
+
+// An iteration that diverges (a step far beyond the stable one) must not pass the stopping
+// test: std::max skips a NaN, and a NaN iterate looked like one that no longer moved.
+TEST(Daha, ADivergingMinimisationIsNotConverged) {
+  DahaProblem<2> p = overlapping_pair(0.4);
+  DahaParameters params;
+  params.delta = 200.0;
+  params.stall_iterations = 0;
+  std::vector<Vec<2>> u;
+  const DahaResult r = minimise(p, params, u);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.iterations, params.max_iterations);
+}
+
 TEST(Daha, StallDetectionGivesUpOnAProblemWithoutSolution) {
   // A sphere between two fixed spheres 1.5 apart: it cannot be 1 away from both.
   DahaProblem<2> p;

@@ -11,6 +11,11 @@ namespace {
 // for stall_iterations: a tenth less, so that slow creeping does not count as converging.
 constexpr double kStallProgress = 0.9;
 
+// Inverse masses within this fraction above 1 count as 1 (stable_inverse_masses): the
+// rounding of a mean of equal masses (at most about 1e-16 per sphere summed, so 1e-8 at
+// 10^8 spheres), far below any mass ratio that matters to stability.
+constexpr double kMeanMassRounding = 1e-6;
+
 // Overlap statistics that drive the dynamical parameters (3.29).
 struct OverlapStats {
   std::vector<double> sum, count;  // per variable; empty when the damping is constant
@@ -154,22 +159,51 @@ void add_pair_forces(const DahaProblem<D>& prob, const DahaParameters& p, const 
   }
 }
 
+// The inverse masses the velocity update (3.21) uses: the problem's (in mean sphere
+// masses), or, when a variable of the problem is lighter than the mean sphere, in units of
+// the lightest variable.
+//
+// Why: linearise a variable against a fixed partner, F = -K x along the pair. With the
+// update's gain g = w K (w = inverse mass / max(1, stiffness), below), one iteration
+// (3.20)-(3.23) maps (x, v) by a matrix of determinant 1 - c and trace
+// 2 - c - delta (1 - c) g, stable if and only if g < 2 (2 - c) / (delta (1 - c)): 1.43 for
+// the rigid model's defaults, 1.91 for the per-sphere ones. A variable's stiffness sums
+// the |dF/dd| of its pairs, so K <= stiffness and g <= its inverse mass. With equal masses
+// no variable is lighter than a sphere, g <= 1, and the parameters are tuned there (the
+// fastest sets lie near the bound). A sphere ten times lighter than the
+// mean would take g up to 10, and its velocity would grow 17-fold per iteration (rigid
+// defaults) until it overflowed. Dividing every inverse mass of the problem by the largest
+// keeps every gain within the tuned ones whatever the mass ratio, and keeps the ratios:
+// heavy variables still move less than light ones in proportion (the centre of mass of two
+// bodies stays where free flight put it), and the fixed variable (inverse mass 0) stays.
+// The solutions (zero forces) are unchanged; a problem with a light variable takes the
+// iterations of one whose lightest variable is a mean sphere.
+std::vector<double> stable_inverse_masses(const std::vector<double>& inverse_mass) {
+  std::vector<double> w = inverse_mass;
+  const double largest = w.empty() ? 0.0 : *std::max_element(w.begin(), w.end());
+  if (largest > 1.0 + kMeanMassRounding)
+    for (double& x : w) x /= largest;
+  return w;
+}
+
 // The iterates of the DAHA and what one iteration works with.
 template <int D>
 struct DahaIterate {
-  DahaIterate(int n_vars, bool per_variable_damping)
-      : velocity(n_vars, Vec<D>::Zero()),
-        force(n_vars),
-        previous(n_vars),
-        stiffness(n_vars),
-        stats{std::vector<double>(per_variable_damping ? n_vars : 0),
-              std::vector<double>(per_variable_damping ? n_vars : 0)} {}
+  DahaIterate(const std::vector<double>& problem_inverse_mass, bool per_variable_damping)
+      : velocity(problem_inverse_mass.size(), Vec<D>::Zero()),
+        force(problem_inverse_mass.size()),
+        previous(problem_inverse_mass.size()),
+        stiffness(problem_inverse_mass.size()),
+        inverse_mass(stable_inverse_masses(problem_inverse_mass)),
+        stats{std::vector<double>(per_variable_damping ? problem_inverse_mass.size() : 0),
+              std::vector<double>(per_variable_damping ? problem_inverse_mass.size() : 0)} {}
   std::vector<Vec<D>> velocity, force, previous;
   // Diagonal (Jacobi) scaling: the force on a variable held by stiff constraints (many of
   // them, or large multipliers) changes fast with its position, and the explicit update
   // would oscillate without bound. Each variable's force is divided by its stiffness
   // (when above 1); the steady states (zero force), and so the solutions, are unchanged.
   std::vector<double> stiffness;
+  std::vector<double> inverse_mass;  // stable_inverse_masses of the problem's
   OverlapStats stats;
 };
 
@@ -186,11 +220,10 @@ void half_step_positions(std::vector<Vec<D>>& u, DahaIterate<D>& it, double half
 // (3.21) the velocity update by the scaled force, (3.22) the damping c_i of (3.29), and
 // (3.23) X^{r+1} = X^{r+1/2} + delta / 2 V^{r+1}.
 template <int D>
-void damped_velocity_step(const DahaProblem<D>& prob, const DahaParameters& p, std::vector<Vec<D>>& u,
-                          DahaIterate<D>& it, double half) {
+void damped_velocity_step(const DahaParameters& p, std::vector<Vec<D>>& u, DahaIterate<D>& it, double half) {
   const bool per_variable_damping = !it.stats.sum.empty();
   for (std::size_t k = 0; k < u.size(); ++k) {
-    it.velocity[k] += prob.inverse_mass[k] / std::max(1.0, it.stiffness[k]) * it.force[k];
+    it.velocity[k] += it.inverse_mass[k] / std::max(1.0, it.stiffness[k]) * it.force[k];
     double c = p.c_max;
     if (per_variable_damping) {
       const double own = it.stats.count[k] > 0.0 ? it.stats.sum[k] / it.stats.count[k] : 0.0;
@@ -202,12 +235,16 @@ void damped_velocity_step(const DahaProblem<D>& prob, const DahaParameters& p, s
 }
 
 // (3.27), per variable, in units of the length scale: the largest of the squared moves,
-// one square root (the same value as the largest of the norms).
+// one square root (the same value as the largest of the norms). A move that is not a
+// number makes the result one (std::max would skip it), so that an iteration that has
+// diverged never passes (3.27): the overlaps of (3.28) skip such pairs too.
 template <int D>
 double largest_move(const std::vector<Vec<D>>& u, const std::vector<Vec<D>>& previous) {
   double largest_squared_move = 0.0;
-  for (std::size_t k = 0; k < u.size(); ++k)
-    largest_squared_move = std::max(largest_squared_move, (u[k] - previous[k]).squaredNorm());
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    const double squared_move = (u[k] - previous[k]).squaredNorm();
+    if (squared_move > largest_squared_move || std::isnan(squared_move)) largest_squared_move = squared_move;
+  }
   return std::sqrt(largest_squared_move);
 }
 
@@ -237,7 +274,7 @@ DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<V
   // With c_min = c_max (the defaults) every variable's damping is that value, whatever
   // (3.29) gives before clamping: the per-variable overlaps and step lengths it reads are
   // then neither gathered nor computed (the same iterates, sooner).
-  DahaIterate<D> it(n_vars, p.c_min < p.c_max);
+  DahaIterate<D> it(prob.inverse_mass, p.c_min < p.c_max);
   initial_multipliers(prob, p);
   update_multipliers(prob, u, 0.0, it.stats);  // beta = 0: statistics only
   DahaResult result;
@@ -253,7 +290,7 @@ DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<V
     keep_within_walls(prob, u, it.velocity);
     if (!prob.position.empty()) add_global_attraction(prob, u, p.alpha, it.force, it.stiffness);
     add_pair_forces(prob, p, u, it.force, it.stiffness);  // (3.21)
-    damped_velocity_step(prob, p, u, it, half);            // (3.21)-(3.23)
+    damped_velocity_step(p, u, it, half);                  // (3.21)-(3.23)
     keep_within_walls(prob, u, it.velocity);
     update_multipliers(prob, u, dynamic_beta(p, prob.n_spheres, it.stats.mean), it.stats);  // (3.24)
     result.converged = largest_move(u, it.previous) <= p.eps_s && it.stats.max <= p.eps_c;  // (3.27), (3.28)

@@ -44,9 +44,10 @@ struct DahaPair {
 
 template <int D>
 struct DahaProblem {
-  // Per variable, relative to the mean sphere mass. A variable with inverse mass 0 never
-  // moves: spheres that stay where they are (neighbours outside the problem) are pairs
-  // with such a variable.
+  // Per variable, relative to the mean sphere mass (the minimiser measures them in units of
+  // the lightest variable when that is lighter: stable_inverse_masses in daha.cpp). A
+  // variable with inverse mass 0 never moves: spheres that stay where they are (neighbours
+  // outside the problem) are pairs with such a variable.
   std::vector<double> inverse_mass;
   std::vector<DahaPair<D>> pairs;
   // Non-rigid model: W = 1/2 sum over all pairs of variables of |X_a - X_b|^2, whose

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <bit>
 
+#include "ballagg/core/finite_state.hpp"
 #include "ballagg/core/parallel.hpp"
 #include "ballagg/engines/time_stepping/flight_sweep.hpp"
 #include "ballagg/engines/time_stepping/repair_waves.hpp"
@@ -337,6 +338,8 @@ int TimeSteppingEngine<D>::commit(State<D>& s) {
     ++merges;
   }
   counters_.merges += merges;
+  // The guard against a numerical failure (core/finite_state.hpp), on what the step moved.
+  throw_if_not_finite(s, name(), first_non_finite<D>(s, moved_in_step_));
   for (int i : moved_in_step_) step_shift_[i].setZero();
   moved_in_step_.clear();
   bodies_.clear();
