@@ -9,14 +9,15 @@
 #include "ballagg/config/text_file.hpp"
 #include "ballagg/initial/initial_state.hpp"
 #include "ballagg/io/h5md_reader.hpp"
+#include "ballagg/run/analyze_kinetics.hpp"
 #include "ballagg/run/run_directory.hpp"
 
 namespace ballagg::python {
 namespace {
 
-// timeseries.csv as columns of numpy arrays.
-py::dict timeseries_columns(const std::string& path) {
-  std::istringstream in(read_text_file(path, "time series", kMaxStateFileBytes));
+// A numeric CSV table (timeseries.csv, kinetics_collapse.csv) as columns of numpy arrays.
+py::dict csv_columns(const std::string& text) {
+  std::istringstream in(text);
   std::string line;
   std::getline(in, line);
   std::vector<std::string> names;
@@ -69,6 +70,16 @@ void load_state(LoadedRun& r) {
   }
 }
 
+// Run.kinetics: the kinetic exponents of the run's time series (and the collapse of its frames).
+py::object kinetics_of(const LoadedRun& r, std::optional<std::pair<double, double>> window, bool tables) {
+  std::map<std::string, std::string> files = kinetics_of_run(r.run, window);
+  py::object fits = json_loads(files.at("kinetics.json"));
+  if (!tables) return fits;
+  py::dict t;
+  if (auto it = files.find("kinetics_collapse.csv"); it != files.end()) t["kinetics_collapse"] = csv_columns(it->second);
+  return py::make_tuple(fits, t);
+}
+
 }  // namespace
 
 void bind_run_directory(py::module_& m) {
@@ -82,6 +93,10 @@ void bind_run_directory(py::module_& m) {
       .def("analyze", [](const LoadedRun& r, bool tables) { return r.analyze(tables); }, py::arg("tables") = false,
            "What `ballagg analyze` writes for final.csv: analysis.json as a dict; tables=True: (that dict, the CSV "
            "tables as {name: {column: array}})")
+      .def("kinetics", &kinetics_of, py::arg("window") = py::none(), py::arg("tables") = false,
+           "What `ballagg analyze --kinetics [--window T0,T1]` writes: kinetics.json as a dict (the exponents z and "
+           "theta with their errors and window); tables=True: (that dict, {'kinetics_collapse': {column: array}}), "
+           "the collapse present once `ballagg analyze --frames` has run")
       .def_property_readonly("n_frames", [](const LoadedRun& r) { return r.n_frames(); }, "Frames in trajectory.h5md")
       .def("frame", [](const LoadedRun& r, int k) { return r.frame(k); }, py::arg("k"),
            "Trajectory frame k (negative: from the end) as a dict like `final`");
@@ -91,7 +106,7 @@ void bind_run_directory(py::module_& m) {
     r.run = open_run_directory(py::str(path).cast<std::string>());
     r.summary = json_loads(read_text_file(r.run.path("summary.json"), "run summary", kMaxSettingsFileBytes));
     std::error_code ec;
-    r.timeseries = std::filesystem::exists(r.run.path("timeseries.csv"), ec) ? py::object(timeseries_columns(r.run.path("timeseries.csv")))
+    r.timeseries = std::filesystem::exists(r.run.path("timeseries.csv"), ec) ? py::object(csv_columns(read_text_file(r.run.path("timeseries.csv"), "time series", kMaxStateFileBytes)))
                                                                              : py::object(py::dict());
     if (r.run.config.system.dimension == 2) load_state<2>(r);
     else load_state<3>(r);

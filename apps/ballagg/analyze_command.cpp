@@ -19,13 +19,15 @@ void add_analyze_command(CLI::App& app, AnalyzeCommand& a) {
                       "Analyse every frame of RUN_DIR/trajectory.h5md instead of the final state: frames.csv, "
                       "frames_mass_spectrum.csv, frames_clusters.csv");
   a.command->add_option("--times", a.frame_times, "With --frames: only the frames nearest these times (comma-separated)")
-      ->delimiter(',');
+      ->delimiter(',')
+      ->allow_extra_args(false);  // one token: a run directory after the times is not a time
   a.command->add_flag("--kinetics", a.kinetics,
                       "The exponents of n(t) ~ t^-z and E(t) ~ t^-theta from RUN_DIR/timeseries.csv (kinetics.json) and, "
                       "after --frames, the scaling collapse of the size distribution (kinetics_collapse.csv)");
   a.command->add_option("--window", a.window, "With --kinetics: the fit's window T0,T1 instead of the automatic one")
       ->delimiter(',')
-      ->expected(2);
+      ->expected(2)
+      ->allow_extra_args(false);
   a.command->add_flag("--quiet,-q", a.quiet, "Only the line naming the output directory");
 }
 

@@ -314,6 +314,26 @@ def test_analyze_has_the_schema_and_values_of_analysis_json(tmp_path):
                     assert list(values) == [str(v) for v in expected], (name, column)
 
 
+def test_kinetics_of_a_loaded_run_is_what_analyze_kinetics_writes(tmp_path):
+    config = small(system={"n": 600, "volume_fraction": 0.05}, output={"snapshot_every": 20.0})
+    out = ballagg.run(config, out=str(tmp_path / "run"))
+    subprocess.run([BINARY, "analyze", "--quiet", "--frames", out], check=True)
+    for window in (None, (5.0, 200.0)):
+        args = ["--window", f"{window[0]},{window[1]}"] if window else []
+        subprocess.run([BINARY, "analyze", "--quiet", "--kinetics", *args, out], check=True)
+        with open(os.path.join(out, "kinetics.json")) as f:
+            written = json.load(f)
+        fits, tables = ballagg.load(out).kinetics(window=window, tables=True)
+        assert fits == written == ballagg.load(out).kinetics(window)
+        assert fits["clusters_decay_z"]["exponent"] > 0  # clusters only ever merge
+        on_disk = np.genfromtxt(os.path.join(out, "kinetics_collapse.csv"), delimiter=",", names=True)
+        assert list(tables["kinetics_collapse"]) == list(on_disk.dtype.names)
+        for column, values in tables["kinetics_collapse"].items():
+            assert np.array_equal(values, on_disk[column]), column
+    with pytest.raises(ballagg.InputError, match="--window 3,2"):
+        ballagg.load(out).kinetics(window=(3.0, 2.0))
+
+
 # ---- rigid bodies (engine.kind = "rigid-body") -------------------------------------------
 
 def rigid(dimension=3, **sections):

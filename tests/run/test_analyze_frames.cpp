@@ -15,6 +15,7 @@
 #include "ballagg/run/analyze_frames.hpp"
 #include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/simulation.hpp"
+#include "file_text.hpp"
 #include "support.hpp"
 
 namespace ballagg {
@@ -22,12 +23,7 @@ namespace {
 
 using testing::TempDir;
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::slurp;
 
 // A 2D run to one cluster with a frame every 5 time units (and one at the end), stored in
 // double precision: the frames hold the very positions final.csv holds.

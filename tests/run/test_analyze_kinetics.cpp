@@ -14,6 +14,7 @@
 #include "ballagg/run/analyze_frames.hpp"
 #include "ballagg/run/analyze_kinetics.hpp"
 #include "ballagg/run/simulation.hpp"
+#include "file_text.hpp"
 #include "support.hpp"
 
 namespace ballagg {
@@ -21,12 +22,7 @@ namespace {
 
 using testing::TempDir;
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::slurp;
 
 // A dilute 2D gas of 3000 discs to 20 clusters, frames every 40 time units.
 void dilute_run(const std::filesystem::path& dir) {

@@ -14,6 +14,7 @@
 #include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
 #include "ballagg/io/state_csv.hpp"
 #include "ballagg/run/analyze_run.hpp"
+#include "file_text.hpp"
 #include "support.hpp"
 
 namespace ballagg {
@@ -23,12 +24,7 @@ using testing::TempDir;
 
 constexpr const char* kRigid = "[engine]\nkind = \"rigid-body\"\n";
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::slurp;
 
 Config small_run(int dimension, const std::string& extra = "") {
   return parse_config_text(std::string(kRigid) + fmt::format(R"(

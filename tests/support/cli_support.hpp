@@ -22,14 +22,9 @@
 #error "BALLAGG_BINARY must name the ballagg executable"
 #endif
 
-namespace ballagg::testing {
+#include "file_text.hpp"
 
-inline std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+namespace ballagg::testing {
 
 inline void write(const std::filesystem::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 

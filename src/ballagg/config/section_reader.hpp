@@ -70,12 +70,7 @@ class SectionReader {
                                            std::size_t max_count, const std::string& allowed) {
     const toml::node* node = find(key);
     if (node == nullptr) return std::nullopt;
-    std::vector<const toml::node*> items;
-    if (const toml::array* a = node->as_array()) {
-      for (const toml::node& item : *a) items.push_back(&item);
-    } else {
-      items.push_back(node);
-    }
+    const std::vector<const toml::node*> items = items_of(*node);
     if (items.empty() || items.size() > max_count) fail(*node, key, allowed);
     std::vector<double> values;
     for (const toml::node* item : items) {
@@ -122,12 +117,7 @@ class SectionReader {
     for (std::size_t k = 0; k < names.size(); ++k) allowed += (k ? ", \"" : " \"") + names[k] + "\"";
     const toml::node* node = find(key);
     if (node == nullptr) return std::nullopt;
-    std::vector<const toml::node*> items;
-    if (const toml::array* a = node->as_array()) {
-      for (const toml::node& item : *a) items.push_back(&item);
-    } else {
-      items.push_back(node);
-    }
+    const std::vector<const toml::node*> items = items_of(*node);
     std::vector<int> picked;
     for (const toml::node* item : items) {
       auto s = item->value_exact<std::string>();
@@ -192,6 +182,17 @@ class SectionReader {
   }
 
  private:
+  // The items of a list key: a TOML array's elements, or the one value given for a list of one.
+  static std::vector<const toml::node*> items_of(const toml::node& node) {
+    std::vector<const toml::node*> items;
+    if (const toml::array* a = node.as_array()) {
+      for (const toml::node& item : *a) items.push_back(&item);
+    } else {
+      items.push_back(&node);
+    }
+    return items;
+  }
+
   const toml::node* find(const std::string& key) {
     known_.insert(key);
     return table_ == nullptr ? nullptr : table_->get(key);

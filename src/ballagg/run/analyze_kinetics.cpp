@@ -64,23 +64,32 @@ std::vector<CollapsePoint> read_collapse(const std::string& path) {
   return points;
 }
 
+void check_window(std::optional<std::pair<double, double>> window) {
+  if (!window) return;
+  const auto [t0, t1] = *window;
+  if (!(std::isfinite(t0) && std::isfinite(t1) && t0 > 0.0 && t1 > t0))
+    throw InputError(fmt::format("analyze --window {},{}: must be two times 0 < T0 < T1", t0, t1));
+}
+
 }  // namespace
 
-std::string analyze_kinetics(const AnalyzeKineticsRequest& r) {
-  if (r.window) {
-    const auto [t0, t1] = *r.window;
-    if (!(std::isfinite(t0) && std::isfinite(t1) && t0 > 0.0 && t1 > t0))
-      throw InputError(fmt::format("analyze --window {},{}: must be two times 0 < T0 < T1", t0, t1));
-  }
-  const RunDirectory run = open_run_directory(r.run_dir);
+std::map<std::string, std::string> kinetics_of_run(const RunDirectory& run,
+                                                   std::optional<std::pair<double, double>> window) {
+  check_window(window);
   const std::string series_file = run.path("timeseries.csv");
-  const Kinetics k = fit_kinetics(read_series(series_file), r.window);
+  const Kinetics k = fit_kinetics(read_series(series_file), window);
   const std::vector<CollapsePoint> collapse = read_collapse(run.path("frames_mass_spectrum.csv"));
+  return kinetics_files(k, run.config.system.dimension, series_file, collapse);
+}
+
+std::string analyze_kinetics(const AnalyzeKineticsRequest& r) {
+  check_window(r.window);  // before the run directory: the argument's error first
+  const RunDirectory run = open_run_directory(r.run_dir);
+  const std::map<std::string, std::string> files = kinetics_of_run(run, r.window);
   const std::string out_dir = r.out_dir.empty() ? run.dir : r.out_dir;
   prepare_output_dir(out_dir);
   const DirectoryLock lock(out_dir);  // not while a run writes there
-  for (const auto& [name, content] : kinetics_files(k, run.config.system.dimension, series_file, collapse))
-    write_file_atomically(out_dir, name, content);
+  for (const auto& [name, content] : files) write_file_atomically(out_dir, name, content);
   return out_dir;
 }
 

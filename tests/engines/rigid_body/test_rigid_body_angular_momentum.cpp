@@ -15,6 +15,7 @@
 
 #include "ballagg/io/state_csv.hpp"
 
+#include "file_text.hpp"
 #include "support.hpp"
 
 namespace ballagg {
@@ -29,12 +30,7 @@ struct AngularMomentum {
   int clusters_at_end = 0;
 };
 
-std::string slurp(const std::filesystem::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::slurp;
 
 // A 3D rigid-body run of the state file `text` in a box of side 10.
 AngularMomentum run_from(const std::string& text, Boundary boundary, const std::string& stop_time = "inf") {
