@@ -8,6 +8,15 @@ the TS work counters and the fitted growth exponents of both engines.
 Usage: bench/ts_vs_ed.py [--vfs 0.1 0.2 0.3] [--sizes 10000 100000] [--seeds 3]
                          [--repeats K] [--repeat-max-n N] [--show-runs] [--dt-factor 0.005]
                          [--fixed-step N_REF] [--ts-only] [--model rigid] [--set KEY=VALUE ...]
+                         [--engines ed-naive ed ts] [--naive-max-n N]
+
+--engines ed-naive ed ts is the paper's comparison (Figs 6-7): TS against the O(N^2)
+event-driven method of its Appendix A (ed-naive) and against our ed. It prints a table
+of the median wall times of the engines named, the ratios of ts to each, and each
+engine's cost exponent p of t ~ N^p with its standard error: a least-squares line
+through log t against log N over every seed's run (the median of its repeats), so that
+the scatter between seeds enters the error. --naive-max-n leaves ed-naive out above N
+(it costs about N^3.5: 26 s at N = 1600).
 
 --repeats K runs every seed of N <= --repeat-max-n (default 10^5) K times and keeps its
 median wall time (a run of 10^4 takes 0.2 s, and on a shared VM single samples of it move
@@ -34,6 +43,7 @@ from ed_scaling import BINARY, fit_exponent, run_once  # noqa: E402
 
 
 REPEAT_MAX_N = 100000  # --repeats applies up to this N unless --repeat-max-n says otherwise
+ENGINES = ["ed-naive", "ed", "ts"]  # the order of the columns of the --engines table
 
 
 def collect_runs(args, engines, ts_extra):
@@ -42,12 +52,15 @@ def collect_runs(args, engines, ts_extra):
     reading (it does, by 20-50 % over minutes) moves every size alike instead of one."""
     runs = {}
     rounds = max(args.repeats, 1)
+    naive_max_n = getattr(args, "naive_max_n", None)
     for r in range(rounds):
         for vf in args.vfs:
             for n in args.sizes:
                 if r > 0 and n > args.repeat_max_n:
                     continue
                 for engine in engines:
+                    if engine == "ed-naive" and naive_max_n is not None and n > naive_max_n:
+                        continue
                     ns = SimpleNamespace(vf=vf, boundary="walls", engine=engine,
                                          set=ts_extra(n) if engine == "ts" else args.set)
                     for seed in range(1, args.seeds + 1):
@@ -67,6 +80,64 @@ def median_run(runs, engine, vf, n, seeds, log):
     return per_seed[len(per_seed) // 2]
 
 
+def fit_exponent_with_error(ns, times):
+    """The slope p of the least-squares line log t = p log N + c through the points (ns[k],
+    times[k]) and its standard error, sqrt(residual variance / sum (log N - mean)^2);
+    None for the error with fewer than three points or a single N."""
+    xs = [math.log(n) for n in ns]
+    ys = [math.log(t) for t in times]
+    mx, my = sum(xs) / len(xs), sum(ys) / len(ys)
+    sxx = sum((x - mx) ** 2 for x in xs)
+    slope = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx
+    if len(xs) < 3:
+        return slope, None
+    residual = sum((y - my - slope * (x - mx)) ** 2 for x, y in zip(xs, ys)) / (len(xs) - 2)
+    return slope, math.sqrt(residual / sxx)
+
+
+def seed_times(runs, engine, vf, n, seeds):
+    """Each seed's wall time at (engine, vf, n): the median of its repeats."""
+    times = []
+    for seed in range(1, seeds + 1):
+        kept = sorted(run["wall_seconds"] for run in runs[(engine, vf, n, seed)])
+        times.append(kept[len(kept) // 2])
+    return times
+
+
+def timing_table(args, runs, engines):
+    """The --engines table: median wall times, ts's ratios to the others, exponents."""
+    naive_max_n = getattr(args, "naive_max_n", None)
+    ratios = [e for e in engines if e != "ts"] if "ts" in engines else []
+    lines = ["| Vf | N | " + " | ".join(f"{e} (s)" for e in engines) + "".join(f" | ts / {e}" for e in ratios) + " |",
+             "|---|---|" + "---|" * (len(engines) + len(ratios))]
+    for vf in args.vfs:
+        points = {e: ([], []) for e in engines}
+        for n in args.sizes:
+            median = {}
+            for e in engines:
+                if (e, vf, n, 1) not in runs:
+                    continue
+                times = seed_times(runs, e, vf, n, args.seeds)
+                median[e] = sorted(times)[len(times) // 2]
+                points[e][0].extend([n] * len(times))
+                points[e][1].extend(times)
+            cells = [f"{median[e]:.4g}" if e in median else "-" for e in engines]
+            cells += [f"{median['ts'] / median[e]:.3g}" if e in median else "-" for e in ratios]
+            lines.append(f"| {vf} | {n} | " + " | ".join(cells) + " |")
+        exponents = []
+        for e in engines:
+            ns, times = points[e]
+            if len(set(ns)) < 2:
+                exponents.append("-")
+                continue
+            p, error = fit_exponent_with_error(ns, times)
+            exponents.append(f"{p:.2f}" + (f" ± {error:.2f}" if error is not None else ""))
+        lines.append(f"| {vf} | exponent | " + " | ".join(exponents) + " |" + " |" * len(ratios))
+    if naive_max_n is not None and "ed-naive" in engines:
+        lines.append(f"\ned-naive run up to N = {naive_max_n} only")
+    return "\n".join(lines)
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--vfs", type=float, nargs="+", default=[0.1, 0.2, 0.3])
@@ -83,6 +154,9 @@ def main():
     p.add_argument("--ts-only", action="store_true", help="skip the ed runs")
     p.add_argument("--model", default="rigid")
     p.add_argument("--set", action="append", default=[])
+    p.add_argument("--engines", nargs="+", choices=ENGINES,
+                   help="the timing table of these engines (the paper's Figs 6-7: ed-naive ed ts)")
+    p.add_argument("--naive-max-n", type=int, metavar="N", help="with --engines: run ed-naive up to N only")
     args = p.parse_args()
     if not os.path.exists(BINARY):
         sys.exit(f"{BINARY} not found: run `make build` first")
@@ -94,6 +168,11 @@ def main():
     print(f"2D, walls, lattice start, speed 1, median of {args.seeds} seeds{repeats}; ts model {args.model}, "
           f"dt_factor {args.dt_factor}" + (f" at N = {args.fixed_step}, scaled by sqrt({args.fixed_step} / N)"
                                            if args.fixed_step else "") + "\n")
+    if args.engines:
+        engines = [e for e in ENGINES if e in args.engines]
+        runs = collect_runs(args, engines, ts_extra)
+        print(timing_table(args, runs, engines), flush=True)
+        return
     print("| Vf | N | ed (s) | ts (s) | ts / ed | ts steps | minimisations | DAHA iterations | placed at contact |"
           " ts max residual overlap |")
     print("|---|---|---|---|---|---|---|---|---|---|")

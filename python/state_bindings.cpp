@@ -107,6 +107,7 @@ Config config_for_state(Config c, const ArrayState& s) {
   // The state gives the box and the spheres; the configuration's [initial] keys are not read.
   c.system.box_length = s.box_length;
   c.system.volume_fraction.reset();
+  c.initial.lattice_spacing.reset();  // it sets the box too, which the state gives
   c.system.n = static_cast<std::int64_t>(std::get<SphereTable<D>>(s.spheres).radius.size());
   return c;
 }

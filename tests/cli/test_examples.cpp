@@ -38,6 +38,37 @@ TEST(Examples, EveryExampleConfigurationLoadsAndRuns) {
   EXPECT_GE(seen, 5);
 }
 
+// The configurations of examples/degond2023 (the paper's Appendix A and C set-ups), each
+// shrunk to at most 300 spheres as above, keeping the box rule it gives.
+TEST(Examples, EveryDegond2023ConfigurationLoadsAndRuns) {
+  int seen = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(std::string(BALLAGG_SOURCE_DIR) + "/examples/degond2023")) {
+    if (entry.path().extension() != ".toml") continue;
+    SCOPED_TRACE(entry.path().string());
+    Config c = load_config(entry.path().string(), {"system.n=300"});
+    if (c.system.dimension == 2) run_shrunk<2>(c); else run_shrunk<3>(c);
+    ++seen;
+  }
+  EXPECT_GE(seen, 3);
+}
+
+// Appendix A, Fig. 13's first panel as its example file gives it: 100 spheres, the O(N^2)
+// event-driven engine, to one cluster.
+TEST(Examples, AppendixAFig13ReachesOneCluster) {
+  const Config given = load_config(std::string(BALLAGG_SOURCE_DIR) + "/examples/degond2023/appendix_a_fig13.toml", {});
+  ASSERT_EQ(given.engine.kind, EngineKind::ed_naive);
+  State<2> s = make_initial_state<2>(given);
+  ASSERT_EQ(s.n_spheres(), 100);
+  EXPECT_EQ(s.box.length, 10.0);
+  const Config c = resolve_defaults(given, s);
+  StopCriteria stop = stop_criteria(c);
+  stop.wall_seconds = 20;
+  const RunResult r = make_engine<2>(c)->run(s, stop, *std::make_unique<RunObserver<2>>());
+  EXPECT_EQ(r.reason, StopReason::clusters);
+  EXPECT_EQ(s.n_clusters(), 1);
+  EXPECT_LE(testing::worst_overlap(s), 1e-9);
+}
+
 TEST(Examples, DefaultExampleIsTheBuiltInDefault) {
   const Config file = load_config(std::string(BALLAGG_SOURCE_DIR) + "/examples/default.toml", {});
   EXPECT_EQ(to_toml_text(file), to_toml_text(load_config("", {})));

@@ -54,6 +54,7 @@ void expect_same_config(const Config& a, const Config& b) {
   EXPECT_EQ(a.initial.positions, b.initial.positions);
   EXPECT_EQ(a.initial.velocities, b.initial.velocities);
   EXPECT_EQ(a.initial.speed, b.initial.speed);
+  EXPECT_EQ(a.initial.lattice_spacing, b.initial.lattice_spacing);
   EXPECT_EQ(a.initial.file, b.initial.file);
   EXPECT_EQ(a.initial.zero_momentum, b.initial.zero_momentum);
   EXPECT_EQ(a.initial.seed, b.initial.seed);
@@ -203,6 +204,41 @@ TEST(Config, BoxLengthAloneLeavesVolumeFractionUnset) {
   EXPECT_EQ(c.system.box_length, 30.0);
   EXPECT_FALSE(c.system.volume_fraction.has_value());
   EXPECT_EQ(ballagg::resolved_box_length(c), 30.0);
+}
+
+TEST(Config, LatticeSpacingSetsTheBoxAndLeavesVolumeFractionUnset) {
+  const Config c = parse_config_text("[system]\nn = 2500\n[initial]\nlattice_spacing = 1.0\n", "t");
+  EXPECT_EQ(c.initial.lattice_spacing, 1.0);
+  EXPECT_FALSE(c.system.volume_fraction.has_value());
+  EXPECT_FALSE(c.system.box_length.has_value());
+  EXPECT_EQ(ballagg::resolved_box_length(c), 50.0);  // 50 sites per side
+  // 3D, 10 spheres: a 3 x 3 x 3 lattice.
+  EXPECT_EQ(ballagg::resolved_box_length(parse_config_text(
+                "[system]\ndimension = 3\nn = 10\nradius = 0.2\n[initial]\nlattice_spacing = 0.5\n", "t")),
+            1.5);
+  // The resolved configuration names it and reads back to the same configuration.
+  const std::string text = ballagg::to_toml_text(c);
+  EXPECT_CONTAINS(text, "lattice_spacing = 1.0\n");
+  EXPECT_EQ(text.find("volume_fraction"), std::string::npos);
+  expect_same_config(parse_config_text(text, "resolved"), c);
+}
+
+TEST(Config, LatticeSpacingIsRefusedWhereItCannotApply) {
+  EXPECT_CONTAINS(error_of("[initial]\nlattice_spacing = 0\n"), "run.toml:2: initial.lattice_spacing = 0: must be a number > 0");
+  EXPECT_CONTAINS(error_of("", {"initial.lattice_spacing=1e30"}),
+                  "--set initial.lattice_spacing: initial.lattice_spacing = 1e+30: must be at most 1e+26");
+  EXPECT_CONTAINS(error_of("[initial]\npositions = \"random\"\nlattice_spacing = 1.0\n"),
+                  "run.toml:3: initial.lattice_spacing = 1: is read only with initial.positions = \"lattice\" (it is \"random\")");
+  EXPECT_CONTAINS(error_of("[system]\nvolume_fraction = 0.1\n[initial]\nlattice_spacing = 1.0\n"),
+                  "initial.lattice_spacing = 1: sets the box (L = sites per side x spacing): give it or "
+                  "system.volume_fraction, not both");
+  EXPECT_CONTAINS(error_of("[system]\nbox_length = 10\n[initial]\nlattice_spacing = 1.0\n"),
+                  "give it or system.box_length, not both");
+  EXPECT_CONTAINS(error_of("", {"initial.lattice_spacing=0.4"}),
+                  "--set initial.lattice_spacing: initial.lattice_spacing = 0.4: must be larger than the diameter 2 "
+                  "system.radius = 0.4");
+  EXPECT_CONTAINS(error_of("[system]\nn = 100\nradius = 1e-6\n[initial]\nlattice_spacing = 1e2\n"),
+                  "makes the box 10 x 100 = 1000 long, more than 1e+06 times the radius");
 }
 
 TEST(Config, StopTimeAndWallSecondsAcceptInfinity) {

@@ -92,6 +92,62 @@ TEST(InitialState, UniformVelocitiesLieInTheCubeOfAppendixA) {
   EXPECT_NEAR(square, 1.0 / 3.0, 0.015);
 }
 
+// Degond et al. 2023, App. A (Fig. 13) from its example file: spheres of radius 0.2 on a
+// lattice of unit spacing in [0, sqrt(N)]^2, velocity components uniform in [-0.5, 0.5].
+TEST(InitialState, AppendixAStartIsTheUnitLatticeWithVelocitiesInTheHalfUnitSquare) {
+  const std::string file = std::string(BALLAGG_SOURCE_DIR) + "/examples/degond2023/appendix_a_fig13.toml";
+  const Config c = load_config(file, {"system.n=2500"});
+  const State<2> s = make_initial_state<2>(c);
+  ASSERT_EQ(s.n_spheres(), 2500);
+  EXPECT_EQ(s.box.length, 50.0);  // sqrt(N) sites of unit spacing
+  std::set<std::array<long, 2>> sites;
+  for (int i = 0; i < s.n_spheres(); ++i) {
+    EXPECT_EQ(s.spheres.radius[i], 0.2);
+    std::array<long, 2> site{};
+    for (int a = 0; a < 2; ++a) {
+      const double x = s.position(i, 0)[a] - 0.5;  // cell centres: 0.5, 1.5, ...
+      site[a] = std::lround(x);
+      EXPECT_EQ(x, static_cast<double>(site[a])) << "sphere " << i;
+      EXPECT_GE(site[a], 0);
+      EXPECT_LT(site[a], 50);
+    }
+    sites.insert(site);
+  }
+  EXPECT_EQ(sites.size(), 2500u);  // one sphere a site
+  // Each component uniform in [-a, a], a = 0.5: mean 0, variance a^2 / 3 = 1/12. Bounds of
+  // five standard errors over N = 2500 draws: the mean's sqrt(a^2 / 3 / N), the
+  // variance's sqrt(4 a^4 / 45 / N).
+  constexpr double kHalfWidth = 0.5, kSigmas = 5.0;
+  const double n = s.n_spheres();
+  const double mean_bound = kSigmas * std::sqrt(kHalfWidth * kHalfWidth / 3.0 / n);
+  const double variance_bound = kSigmas * std::sqrt(4.0 * std::pow(kHalfWidth, 4) / 45.0 / n);
+  for (int a = 0; a < 2; ++a) {
+    double sum = 0.0, square = 0.0;
+    for (int i = 0; i < s.n_spheres(); ++i) {
+      const double v = s.velocity(i)[a];
+      EXPECT_GE(v, -kHalfWidth);
+      EXPECT_LT(v, kHalfWidth);
+      sum += v;
+      square += v * v;
+    }
+    const double mean = sum / n, variance = square / n - mean * mean;
+    EXPECT_NEAR(mean, 0.0, mean_bound) << "component " << a;
+    EXPECT_NEAR(variance, kHalfWidth * kHalfWidth / 3.0, variance_bound) << "component " << a;
+  }
+}
+
+// The spacing is the key's, whatever the radius: a larger radius keeps the unit lattice.
+TEST(InitialState, LatticeSpacingDoesNotDependOnTheRadius) {
+  const Config c = parse_config_text("[system]\nn = 9\nradius = 0.45\n[initial]\nlattice_spacing = 1.0\n", "t");
+  const State<2> s = make_initial_state<2>(c);
+  EXPECT_EQ(s.box.length, 3.0);
+  std::set<std::array<double, 2>> sites;
+  for (int i = 0; i < s.n_spheres(); ++i) sites.insert({s.position(i, 0)[0], s.position(i, 0)[1]});
+  const std::set<std::array<double, 2>> unit{{0.5, 0.5}, {0.5, 1.5}, {0.5, 2.5}, {1.5, 0.5}, {1.5, 1.5},
+                                             {1.5, 2.5}, {2.5, 0.5}, {2.5, 1.5}, {2.5, 2.5}};
+  EXPECT_EQ(sites, unit);
+}
+
 TEST(InitialState, GaussianVelocitiesHaveTheRequestedMeanSquareSpeed) {
   Config c = defaults();
   c.system.dimension = 3;

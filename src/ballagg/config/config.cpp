@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <toml++/toml.h>
 
+#include "ballagg/config/lattice_spacing.hpp"
 #include "ballagg/config/radius_section.hpp"
 #include "ballagg/config/rigid_body_section.hpp"
 #include "ballagg/config/run_continuation.hpp"
@@ -117,6 +118,7 @@ InitialConfig read_initial(SectionReader& ini) {
   refuse_outside(ini, "speed", speed, 0.0, range::kMaxSpeed,
                  fmt::format("must be at most {:g} (choose units in which speeds are near 1)", range::kMaxSpeed));
   if (speed) initial_config.speed = *speed;
+  read_lattice_spacing(ini, initial_config);
   if (auto v = ini.string("file", "must be a file name (a string)")) initial_config.file = *v;
   if (auto v = ini.real("time", [](double t) { return t >= 0.0; }, "must be a finite number >= 0 (a simulated time)"))
     initial_config.time = *v;
@@ -217,7 +219,7 @@ void check_key_combinations(Config& c) {
                                  "give a later stop.time", origin_of(c, {"stop.time", "initial.time", "initial.file"}),
                                  c.stop.time, c.initial.time,
                                  c.initial.positions == InitialPositions::file ? fmt::format(" ({})", c.initial.file) : ""));
-  if (!from_file && !c.system.box_length && !c.system.volume_fraction)
+  if (!from_file && !c.system.box_length && !c.system.volume_fraction && !c.initial.lattice_spacing)
     c.system.volume_fraction = kDefaultVolumeFraction;
   if (c.system.volume_fraction) {
     // Densest packings: hexagonal discs pi / (2 sqrt 3), spheres pi / (3 sqrt 2).
@@ -279,6 +281,7 @@ Config read_config(const toml::table& root, const std::string& source, const std
   // Rules that involve several keys.
   continue_from_run_directory(c, sys, ini);
   check_rigid_body_rules(c, rigid_keys, restitution.has_value());
+  check_lattice_spacing(c, ini);
   check_key_combinations(c);
   check_radius_key_combinations(c, sys);
   const bool from_file = c.initial.positions == InitialPositions::file;
@@ -371,6 +374,8 @@ void check_stop_duration(double value, std::string_view name) {
 
 double resolved_box_length(const Config& c) {
   if (c.system.box_length) return *c.system.box_length;
+  if (c.initial.lattice_spacing)
+    return static_cast<double>(lattice_side(c.system.n, c.system.dimension)) * *c.initial.lattice_spacing;
   const double n = static_cast<double>(c.system.n), r = c.system.radius;
   const double vf = c.system.volume_fraction.value_or(kDefaultVolumeFraction);
   if (polydisperse(c.system)) {
@@ -379,6 +384,12 @@ double resolved_box_length(const Config& c) {
   }
   if (c.system.dimension == 2) return std::sqrt(n * std::numbers::pi * r * r / vf);
   return std::cbrt(n * 4.0 / 3.0 * std::numbers::pi * r * r * r / vf);
+}
+
+std::int64_t lattice_side(std::int64_t n, int dimension) {
+  std::int64_t side = 1;
+  while (static_cast<std::int64_t>(std::pow(side, dimension) + 0.5) < n) ++side;
+  return side;
 }
 
 double sphere_mass(const SystemConfig& s, double r) {

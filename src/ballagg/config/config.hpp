@@ -39,6 +39,9 @@ struct InitialConfig {
   InitialPositions positions = InitialPositions::lattice;
   InitialVelocities velocities = InitialVelocities::fixed_speed;
   double speed = 1.0;
+  // The lattice's spacing, setting the box (L = sites per side x spacing) instead of
+  // system.volume_fraction or system.box_length: Degond et al. 2023, App. A's unit lattice.
+  std::optional<double> lattice_spacing;
   std::string file;                  // a state file, or a finished run's directory (resolved to its final.csv)
   double time = 0.0;                 // the simulated time the initial state is at
   bool zero_momentum = false;
@@ -115,10 +118,14 @@ inline constexpr std::string_view kStopDurationAllowed = "must be a number > 0 (
 void check_stop_clusters(std::int64_t clusters, std::string_view name);
 void check_stop_duration(double value, std::string_view name);  // stop.time, stop.wall_seconds
 
-// The box length: given, or from the volume fraction (2D: L = sqrt(N pi R^2 / Vf),
-// 3D: L = cbrt(N 4/3 pi R^3 / Vf); polydisperse: L^D = sum of the sampled spheres'
-// volumes / Vf).
+// The box length: given, or from the lattice spacing (L = lattice_side x spacing), or from
+// the volume fraction (2D: L = sqrt(N pi R^2 / Vf), 3D: L = cbrt(N 4/3 pi R^3 / Vf);
+// polydisperse: L^D = sum of the sampled spheres' volumes / Vf).
 double resolved_box_length(const Config& c);
+
+// Sites per side of the smallest square (2D) or cubic (3D) lattice that holds n spheres:
+// the lattice of initial.positions = "lattice" fills the box with side^D cells.
+std::int64_t lattice_side(std::int64_t n, int dimension);
 
 // The law of the generated spheres' radii is not one radius for all.
 inline bool polydisperse(const SystemConfig& s) { return s.radius_distribution.law != RadiusLaw::monodisperse; }

@@ -51,6 +51,8 @@ std::vector<Section> entries(const Config& c) {
                   {{"positions", str(to_string(c.initial.positions))},
                    {"velocities", str(to_string(c.initial.velocities))},
                    {"speed", c.initial.speed}}};
+  // Written when set only: the configuration files of runs without it stay as they were.
+  if (c.initial.lattice_spacing) initial.second.push_back({"lattice_spacing", *c.initial.lattice_spacing});
   if (!c.initial.file.empty()) initial.second.push_back({"file", c.initial.file});
   // Written when the clock does not start at 0 only: other runs' files stay as they were.
   if (c.initial.time != 0.0) initial.second.push_back({"time", c.initial.time});

@@ -156,7 +156,8 @@ void check_sampled_radii(const Config& c, SectionReader& sys, SectionReader& eng
                              lightest, heaviest, range::kMinMass, range::kMaxMass));
   }
   const double box = resolved_box_length(c);
-  if (box > range::kMaxBoxToRadius * r.smallest) {
+  // A lattice spacing that sets the box is refused by check_lattice_spacing, naming it.
+  if (box > range::kMaxBoxToRadius * r.smallest && !c.initial.lattice_spacing) {
     const std::string key = c.system.box_length ? "box_length" : "volume_fraction";
     refuse_value(sys, c, key, c.system.box_length.value_or(c.system.volume_fraction.value_or(kDefaultVolumeFraction)),
                  fmt::format("makes the box {:.6g} long, more than {:g} times the smallest sampled radius {:.6g}: "

@@ -29,7 +29,7 @@ constexpr int kMaxPlacementTries = 100000;
 // arguments among them, or the configuration file), for the message when they do not.
 std::string placement_origin(const Config& c) {
   return origin_of(c, {"system.dimension", "system.n", "system.volume_fraction", "system.box_length", "system.radius",
-                       "system.boundary", "initial.positions"});
+                       "system.boundary", "initial.positions", "initial.lattice_spacing"});
 }
 
 std::string fmt_vec(const auto& v) {
@@ -55,9 +55,10 @@ void number_along_space_filling_curve(std::vector<Vec<D>>& x, const Box<D>& box)
 template <int D>
 std::vector<Vec<D>> lattice_positions(const Config& c, const Box<D>& box) {
   const std::int64_t n = c.system.n;
-  std::int64_t side = 1;
-  while (static_cast<std::int64_t>(std::pow(side, D) + 0.5) < n) ++side;
-  const double spacing = box.length / side;
+  const std::int64_t side = lattice_side(n, D);
+  // App. A's lattice of a given spacing sets the box (resolved_box_length); the spacing
+  // is taken as given, not divided back out of the box.
+  const double spacing = c.initial.lattice_spacing.value_or(box.length / static_cast<double>(side));
   if (spacing <= 2.0 * c.system.radius) {
     const double max_vf = (D == 2 ? std::numbers::pi / 4.0 : std::numbers::pi / 6.0) *
                           static_cast<double>(n) / std::pow(side, D);

@@ -16,14 +16,14 @@ namespace {
 template <int D>
 std::vector<Vec<D>> lattice_sites(const Config& c, const Box<D>& box, double largest) {
   const std::int64_t n = c.system.n;
-  std::int64_t side = 1;
-  while (static_cast<std::int64_t>(std::pow(side, D) + 0.5) < n) ++side;
-  const double spacing = box.length / side;
+  const std::int64_t side = lattice_side(n, D);
+  const double spacing = c.initial.lattice_spacing.value_or(box.length / static_cast<double>(side));
   if (spacing <= 2.0 * largest)
     throw InputError(fmt::format(
         "{}: initial.positions = \"lattice\": {} spheres need a {}-per-side lattice whose spacing {:.6g} is not larger "
-        "than the largest sampled diameter {:.6g}; lower system.volume_fraction, narrow system.radius_distribution, "
-        "or use initial.positions = \"random\"", c.source, n, side, spacing, 2.0 * largest));
+        "than the largest sampled diameter {:.6g}; {}, narrow system.radius_distribution, "
+        "or use initial.positions = \"random\"", c.source, n, side, spacing, 2.0 * largest,
+        c.initial.lattice_spacing ? "raise initial.lattice_spacing" : "lower system.volume_fraction"));
   std::vector<Vec<D>> x(n);
   for (std::int64_t k = 0; k < n; ++k) {
     std::int64_t rest = k;
