@@ -71,7 +71,7 @@ void expect_one_finite_cluster(const std::string& model, const std::vector<std::
   EXPECT_LE((s.momentum() - momentum).norm(), kMomentumRoundOff * scale) << where;
   EXPECT_LE(testing::worst_overlap(s), c.ts.daha.eps_c) << where;
   if (model == "rigid") {
-    EXPECT_LE(r.counters.placed_at_contact, kRigidFallBackShare * r.counters.minimisations) << where;
+    EXPECT_LE(r.count("placed_at_contact"), kRigidFallBackShare * r.count("minimisations")) << where;
   }
 }
 
