@@ -37,8 +37,7 @@ void expect_run_keeps_the_budgets(const std::string& engine, const std::string& 
   State<D> s = make_initial_state<D>(given);
   const std::vector<double> radii = s.spheres.radius, masses = s.spheres.mass;
   const double mass = s.total_mass();
-  double scale = 0.0;
-  for (int k : s.alive_clusters()) scale += s.clusters[k].mass * s.clusters[k].velocity.norm();
+  const double scale = s.momentum_scale();
   const Vec<D> momentum = s.momentum();
 
   const Config c = resolve_defaults<D>(given, s);

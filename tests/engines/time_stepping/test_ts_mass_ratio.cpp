@@ -53,8 +53,7 @@ void expect_one_finite_cluster(const std::string& model, const std::vector<std::
   const Config given = load_config("", keys);
   State<D> s = make_initial_state<D>(given);
   ASSERT_GE(heaviest_over_lightest(s), least_mass_ratio);
-  double scale = 0.0;
-  for (int k : s.alive_clusters()) scale += s.clusters[k].mass * s.clusters[k].velocity.norm();
+  const double scale = s.momentum_scale();
   const Vec<D> momentum = s.momentum();
 
   const Config c = resolve_defaults<D>(given, s);
