@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ballagg/config/config.hpp"
+#include "ballagg/config/rigid_body_section.hpp"
 #include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
 #include "ballagg/io/state_csv.hpp"
 #include "ballagg/run/analyze_run.hpp"
@@ -121,6 +122,99 @@ TEST(RigidBodyConfig, ImpossibleCombinationsAreRejected) {
   EXPECT_CONTAINS(error_of(r + "[collision]\nrestitution = 0.5\nrestitution_law = \"bridges\"\n"), "not both");
   EXPECT_CONTAINS(error_of(r + "[collision]\nvelocity_unit = 2\n"), "only used with collision.restitution_law = \"bridges\"");
   EXPECT_CONTAINS(error_of(r + "[collision]\nmu_p = 0.1\n"), "in 2D the contact has one tangent");
+}
+
+TEST(RigidBodyConfig, FragmentationKeysAreReadAndTheirCombinationsChecked) {
+  const std::string r = kRigid;
+  const Config paper = parse_config_text(r + "[collision]\nfragmentation = \"initial-energy\"\nfragmentation_factor = 3\n", "t");
+  EXPECT_EQ(paper.rigid_body.fragmentation, Fragmentation::initial_energy);
+  EXPECT_EQ(paper.rigid_body.fragmentation_factor, 3.0);
+  EXPECT_FALSE(paper.rigid_body.fragmentation_energy);  // resolved by the run
+  const Config absolute = parse_config_text(r + "[collision]\nfragmentation_energy = 40\n", "t");
+  EXPECT_EQ(absolute.rigid_body.fragmentation, Fragmentation::energy);  // an energy alone means "energy"
+  EXPECT_EQ(parse_config_text(r, "t").rigid_body.fragmentation, Fragmentation::off);
+  EXPECT_CONTAINS(error_of(r + "[collision]\nfragmentation = \"sometimes\"\n"),
+                  "collision.fragmentation = \"sometimes\": must be one of \"off\", \"initial-energy\", \"energy\"");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nfragmentation = \"initial-energy\"\nfragmentation_factor = 0\n"),
+                  "collision.fragmentation_factor = 0: must be a number > 0");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nfragmentation = \"off\"\nfragmentation_energy = 1\n"),
+                  "collision.fragmentation = \"off\" with collision.fragmentation_energy");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nfragmentation = \"energy\"\n"),
+                  "collision.fragmentation = \"energy\" needs collision.fragmentation_energy");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nfragmentation_factor = 2\n"),
+                  "collision.fragmentation_factor is only used with collision.fragmentation = \"initial-energy\"");
+  EXPECT_CONTAINS(error_of(r + "[collision]\ncoagulation = \"sphere\"\nfragmentation = \"initial-energy\"\n"),
+                  "collision.fragmentation breaks aggregates up: it needs collision.coagulation = \"aggregate\"");
+  EXPECT_CONTAINS(error_of(r + "[collision]\nenergy_threshold_factor = 2\n"),
+                  "collision.energy_threshold_factor is only used with collision.outcome = \"energy-threshold\"");
+  EXPECT_CONTAINS(error_of(r + "[collision]\noutcome = \"energy-threshold\"\nenergy_threshold_factor = -1\n"),
+                  "collision.energy_threshold_factor = -1: must be a number > 0");
+  EXPECT_CONTAINS(error_of(r, {"collision.fragmentation=energy"}), "--set collision.fragmentation=energy");
+}
+
+// The thresholds derived from the initial mean kinetic energy per body (here 2.5): the
+// defaults (factor 1 each), other factors, energies given as such, and the resolved text,
+// which reads back and resolves again to the same bytes.
+TEST(RigidBodyConfig, ThresholdsDefaultToMultiplesOfTheInitialMeanEnergyPerBody) {
+  const std::string r = std::string(kRigid) + "[collision]\noutcome = \"energy-threshold\"\n";
+  Config c = parse_config_text(r + "fragmentation = \"initial-energy\"\n", "t");
+  resolve_rigid_body_energies(c, 2.5);
+  EXPECT_EQ(c.rigid_body.energy_threshold, 2.5);
+  EXPECT_EQ(c.rigid_body.energy_threshold_factor, kDefaultEnergyThresholdFactor);
+  EXPECT_EQ(c.rigid_body.fragmentation_energy, 2.5);
+  EXPECT_EQ(c.rigid_body.fragmentation_factor, kDefaultFragmentationFactor);
+  EXPECT_EQ(kDefaultEnergyThresholdFactor, 1.0);  // the paper's §3
+  EXPECT_EQ(kDefaultFragmentationFactor, 1.0);    // §2.6 names no other multiple
+  const std::string text = to_toml_text(c);
+  EXPECT_CONTAINS(text, "energy_threshold = 2.5\nenergy_threshold_factor = 1.0\nfragmentation = \"initial-energy\"\n"
+                        "fragmentation_factor = 1.0\nfragmentation_energy = 2.5\n");
+  Config again = parse_config_text(text, "config.toml");
+  resolve_rigid_body_energies(again, 2.5);
+  EXPECT_EQ(to_toml_text(again), text);
+
+  Config scaled = parse_config_text(r + "energy_threshold_factor = 0.5\nfragmentation = \"initial-energy\"\n"
+                                        "fragmentation_factor = 4\n", "t");
+  resolve_rigid_body_energies(scaled, 2.5);
+  EXPECT_EQ(scaled.rigid_body.energy_threshold, 1.25);
+  EXPECT_EQ(scaled.rigid_body.fragmentation_energy, 10.0);
+
+  Config given = parse_config_text(r + "energy_threshold = 7\nfragmentation_energy = 9\n", "t");
+  resolve_rigid_body_energies(given, 2.5);
+  EXPECT_EQ(given.rigid_body.energy_threshold, 7.0);
+  EXPECT_FALSE(given.rigid_body.energy_threshold_factor);  // given as an energy: no factor written
+  EXPECT_EQ(given.rigid_body.fragmentation_energy, 9.0);
+  EXPECT_FALSE(given.rigid_body.fragmentation_factor);
+  EXPECT_EQ(to_toml_text(given).find("_factor"), std::string::npos);
+
+  Config stick = parse_config_text(std::string(kRigid), "t");
+  resolve_rigid_body_energies(stick, 2.5);
+  EXPECT_FALSE(stick.rigid_body.energy_threshold);
+  EXPECT_FALSE(stick.rigid_body.fragmentation_energy);
+}
+
+TEST(RigidBodyConfig, AnEnergyBesideItsFactorMustBeThatMultiple) {
+  const std::string r = std::string(kRigid) + "[collision]\noutcome = \"energy-threshold\"\n";
+  auto resolve_error = [](Config c, double mean) -> std::string {
+    try {
+      resolve_rigid_body_energies(c, mean);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    ADD_FAILURE() << "expected InputError";
+    return {};
+  };
+  // A resolved config.toml of another start (here: mean energy 3 instead of 2.5).
+  EXPECT_CONTAINS(resolve_error(parse_config_text(r + "energy_threshold = 2.5\nenergy_threshold_factor = 1\n", "c.toml"), 3.0),
+                  "c.toml: collision.energy_threshold = 2.5 is not collision.energy_threshold_factor = 1 times the initial "
+                  "mean kinetic energy per body (3), which gives 3: give one of the two keys");
+  EXPECT_CONTAINS(resolve_error(parse_config_text(r + "fragmentation = \"initial-energy\"\nfragmentation_factor = 2\n"
+                                                      "fragmentation_energy = 5\n", "c.toml"), 3.0),
+                  "collision.fragmentation_energy = 5 is not collision.fragmentation_factor = 2 times");
+  // The mode derives the energy: one given beside it (without a factor) is checked against factor 1.
+  EXPECT_CONTAINS(resolve_error(parse_config_text(r + "fragmentation = \"initial-energy\"\nfragmentation_energy = 5\n", "c.toml"), 3.0),
+                  "collision.fragmentation_energy = 5 is not collision.fragmentation_factor = 1 times");
+  EXPECT_CONTAINS(resolve_error(parse_config_text(r + "fragmentation = \"initial-energy\"\n", "c.toml"), 0.0),
+                  "the bodies start at rest");
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "ballagg/config/config.hpp"
+#include "ballagg/engines/rigid_body/rigid_bodies.hpp"
 #include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
 #include "ballagg/io/state_csv.hpp"
 #include "ballagg/run/analyze_run.hpp"
@@ -208,6 +209,59 @@ TEST(RigidBodyRun, FragmentationBreaksAggregatesAndConservesMomentum) {
   const auto p0 = j["momentum_initial"], p1 = j["momentum_final"];
   for (int a = 0; a < 3; ++a) EXPECT_NEAR(p1[a].get<double>(), p0[a].get<double>(), 1e-10);
   EXPECT_LT(j["max_overlap"].get<double>(), 1e-9);
+}
+
+// summary.json states the collision law from the resolved configuration: the impact
+// energy's formula, the thresholds with their derivation, the Bridges law's units; and a
+// run of the written config.toml writes the same files.
+TEST(RigidBodyRun, SummaryStatesTheCollisionLawAsTheResolvedConfigGivesIt) {
+  TempDir dir;
+  const std::string law = "[collision]\noutcome = \"energy-threshold\"\nrestitution_law = \"bridges\"\n"
+                          "velocity_unit = 0.01\nfragmentation = \"initial-energy\"\nfragmentation_factor = 2\n"
+                          "[stop]\ntime = 15\n";
+  run_simulation(small_run(3, law), {(dir / "out").string(), true, false});
+  const nlohmann::json j = summary_of(dir / "out");
+  const State<3> s = make_initial_state<3>(small_run(3, law));
+  const double mean = mean_kinetic_energy_per_body(s);
+  const nlohmann::json& k = j["collision_law"];
+  const nlohmann::json& cfg = j["config"]["collision"];
+  EXPECT_EQ(k["outcome"], "energy-threshold");
+  EXPECT_EQ(k["coagulation"], "aggregate");
+  EXPECT_EQ(k["impact_energy"]["formula"], "1/2 mu |V_1 - V_2|^2, mu = m_1 m_2 / (m_1 + m_2)");
+  EXPECT_CONTAINS(k["impact_energy"]["velocities"].get<std::string>(), "centre-of-mass velocities");
+  EXPECT_EQ(k["energy_threshold"]["energy"].get<double>(), mean);
+  EXPECT_EQ(k["energy_threshold"]["energy"], cfg["energy_threshold"]);
+  EXPECT_EQ(k["energy_threshold"]["factor"].get<double>(), 1.0);
+  EXPECT_CONTAINS(k["energy_threshold"]["derivation"].get<std::string>(), "collision.energy_threshold_factor x the initial mean kinetic energy per body");
+  EXPECT_EQ(k["fragmentation"]["mode"], "initial-energy");
+  EXPECT_EQ(k["fragmentation"]["energy"].get<double>(), 2.0 * mean);
+  EXPECT_EQ(k["fragmentation"]["energy"], cfg["fragmentation_energy"]);
+  EXPECT_EQ(k["fragmentation"]["factor"].get<double>(), 2.0);
+  EXPECT_EQ(k["restitution"]["law"], "bridges");
+  EXPECT_EQ(k["restitution"]["critical_speed_cm_per_s"].get<double>(), 0.0077);
+  EXPECT_EQ(k["restitution"]["exponent"].get<double>(), -0.234);
+  EXPECT_EQ(k["restitution"]["velocity_unit_cm_per_s"], cfg["velocity_unit"]);
+  EXPECT_DOUBLE_EQ(k["restitution"]["critical_speed"].get<double>(), 0.77);
+  EXPECT_GT(j["fragmentations"].get<int>(), 0);
+  EXPECT_GT(j["bounces"].get<int>(), 0);
+
+  run_simulation(load_config((dir / "out" / "config.toml").string(), {}), {(dir / "again").string(), true, false});
+  nlohmann::json again = summary_of(dir / "again"), first = j;
+  for (nlohmann::json* x : {&again, &first}) x->erase("wall_seconds"), x->erase("events_per_second");
+  EXPECT_EQ(again, first);
+  for (const char* file : {"final.csv", "config.toml", "timeseries.csv"}) EXPECT_EQ(slurp(dir / "again" / file), slurp(dir / "out" / file)) << file;
+}
+
+TEST(RigidBodyRun, SummaryOfAGivenThresholdAndNoFragmentationSaysSo) {
+  TempDir dir;
+  run_simulation(small_run(2, "[collision]\noutcome = \"energy-threshold\"\nenergy_threshold = 0.7\nrestitution = 0.5\n"
+                              "[stop]\ntime = 5\n"), {(dir / "out").string(), true, false});
+  const nlohmann::json k = summary_of(dir / "out")["collision_law"];
+  EXPECT_EQ(k["energy_threshold"]["energy"].get<double>(), 0.7);
+  EXPECT_TRUE(k["energy_threshold"]["factor"].is_null());
+  EXPECT_EQ(k["energy_threshold"]["derivation"], "collision.energy_threshold, given as an energy");
+  EXPECT_EQ(k["restitution"], nlohmann::json::parse(R"({"law": "constant", "eps_n": 0.5, "mu_t": 0.0})"));
+  EXPECT_EQ(k["fragmentation"], nlohmann::json::parse(R"({"mode": "off"})"));
 }
 
 TEST(RigidBodyRun, StopsWhenTheAggregatedFractionIsReached) {

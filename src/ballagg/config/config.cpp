@@ -433,5 +433,13 @@ std::string_view to_string(CollisionOutcome o) {
 std::string_view to_string(Coagulation c) { return c == Coagulation::aggregate ? "aggregate" : "sphere"; }
 std::string_view to_string(MergedRadius r) { return r == MergedRadius::constant_density ? "constant-density" : "fixed"; }
 std::string_view to_string(RestitutionLaw l) { return l == RestitutionLaw::constant ? "constant" : "bridges"; }
+std::string_view to_string(Fragmentation f) {
+  switch (f) {
+    case Fragmentation::off: return "off";
+    case Fragmentation::initial_energy: return "initial-energy";
+    case Fragmentation::energy: return "energy";
+  }
+  return "off";
+}
 
 }  // namespace ballagg

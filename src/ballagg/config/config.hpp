@@ -158,5 +158,6 @@ std::string_view to_string(CollisionOutcome o);
 std::string_view to_string(Coagulation c);
 std::string_view to_string(MergedRadius r);
 std::string_view to_string(RestitutionLaw l);
+std::string_view to_string(Fragmentation f);
 
 }  // namespace ballagg

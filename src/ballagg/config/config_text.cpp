@@ -77,6 +77,10 @@ std::vector<Section> entries(const Config& c) {
     keys.push_back({"mu_t", k.mu_t});
     if (c.system.dimension == 3) keys.push_back({"mu_p", k.mu_p});
     if (k.energy_threshold) keys.push_back({"energy_threshold", *k.energy_threshold});
+    if (k.energy_threshold_factor) keys.push_back({"energy_threshold_factor", *k.energy_threshold_factor});
+    // Written when on only: the configuration files of runs without it stay as they were.
+    if (k.fragmentation != Fragmentation::off) keys.push_back({"fragmentation", str(to_string(k.fragmentation))});
+    if (k.fragmentation_factor) keys.push_back({"fragmentation_factor", *k.fragmentation_factor});
     if (k.fragmentation_energy) keys.push_back({"fragmentation_energy", *k.fragmentation_energy});
   }
   Section engine{"engine", {{"kind", str(to_string(c.engine.kind))}}};

@@ -13,6 +13,7 @@
 
 #include "ballagg/analysis/overlap.hpp"
 #include "ballagg/collision/contact_time.hpp"
+#include "ballagg/config/rigid_body_section.hpp"
 #include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/finite_state.hpp"
 #include "ballagg/core/state_codec.hpp"
@@ -30,6 +31,7 @@
 #include "ballagg/io/xyz.hpp"
 #include "ballagg/run/analyze_run.hpp"
 #include "ballagg/run/checkpointer.hpp"
+#include "ballagg/run/collision_law_summary.hpp"
 #include "ballagg/run/observer_list.hpp"
 #include "ballagg/run/progress.hpp"
 #include "ballagg/run/run_files.hpp"
@@ -50,10 +52,8 @@ Config resolve_defaults(Config c, const State<D>& s) {
     const double rms = std::sqrt(mean_square_speed);
     c.collision.tc_time = rms > 0.0 ? kDefaultTcFraction * 2.0 * mean_radius / rms : 0.0;
   }
-  if (!c.rigid_body.energy_threshold && c.collision.outcome == CollisionOutcome::energy_threshold) {
-    // Richardson §3: the initial mean kinetic energy per body.
-    c.rigid_body.energy_threshold = total_kinetic_energy(s) / s.n_clusters();
-  }
+  // Richardson §3 and §2.6: thresholds as multiples of the initial mean kinetic energy per body.
+  if (c.engine.kind == EngineKind::rigid_body) resolve_rigid_body_energies(c, mean_kinetic_energy_per_body(s));
   check_resolved_ranges(c, s);
   return c;
 }
@@ -173,6 +173,7 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
     j["rotational_energy_initial"] = initial.rotational_energy;
     j["rotational_energy_final"] = rotational_energy(s);
     j["angular_momentum_final"] = vector_json<kSpinDim<D>>(Vec<kSpinDim<D>>(angular_momentum(s)));
+    j["collision_law"] = nlohmann::ordered_json::parse(collision_law_json_text(c));
   }
   const std::optional<double> overlap = max_relative_overlap(s);
   j["max_overlap"] = overlap ? nlohmann::ordered_json(*overlap) : nlohmann::ordered_json(nullptr);

@@ -168,6 +168,64 @@ TEST(RigidBodyEngine, CatastrophicFragmentationConservesMomentaAndEnergy) {
   EXPECT_LT(testing::worst_overlap(s), 1e-9);
 }
 
+// Round-off allowed in the breakup's budgets, relative to the pre-impact energy and momentum
+// scales: the breakup is exact in exact arithmetic (sum m r = 0, r x H r = 0).
+constexpr double kBreakupRoundOff = 1e-12;
+
+// Section 2.6 as the engine does it, piece by piece: the two bodies (spinning, off-centre)
+// join, then each sphere leaves with V + omega x r + H r, r from the joined centre of mass,
+// one H > 0 for all, which gives back the energy the joining lost; each keeps the spin.
+template <int D>
+void breakup_gives_back_the_pre_impact_energy() {
+  State<D> s = prepared_pair<D>();
+  const Totals<D> before(s);
+  double mass = 0.0;
+  Vec<D> centre_of_mass_velocity = Vec<D>::Zero();
+  for (int c : s.alive_clusters()) {
+    mass += s.clusters[c].mass;
+    centre_of_mass_velocity += s.clusters[c].mass * s.clusters[c].velocity;
+  }
+  centre_of_mass_velocity /= mass;
+  RigidBodySettings settings;
+  settings.law.fragmentation = Fragmentation::energy;
+  settings.law.fragmentation_energy = 1e-6;  // every impact breaks
+  Watcher<D> w;
+  int checked = 0;
+  w.check = [&](const State<D>& st, const EventRecord& e) {
+    if (e.kind != EventKind::collision || w.collisions.size() != 1) return;
+    ASSERT_EQ(st.n_clusters(), 7);  // every sphere on its own
+    const Totals<D> after(st);
+    EXPECT_LT((after.momentum - before.momentum).norm(), kBreakupRoundOff * before.momentum_scale);
+    EXPECT_LT((after.angular_momentum - before.angular_momentum).norm(), kBreakupRoundOff * before.angular_scale);
+    EXPECT_NEAR(after.energy, before.energy, kBreakupRoundOff * before.energy);  // translation + rotation
+    Vec<D> centre = Vec<D>::Zero();
+    for (int c : st.alive_clusters()) centre += st.clusters[c].mass * st.origin(c, st.time);
+    centre /= mass;
+    double expansion = 0.0;
+    for (int c : st.alive_clusters()) {
+      const Vec<D> r = st.origin(c, st.time) - centre;
+      const Vec<D> radial = st.clusters[c].velocity - centre_of_mass_velocity - cross(st.spin[c].angular_velocity, r);
+      const double h = radial.dot(r) / r.squaredNorm();
+      EXPECT_GT(h, 0.0);                                                 // outward
+      EXPECT_LT((radial - h * r).norm(), 1e-9 * radial.norm());          // radial
+      if (expansion == 0.0) expansion = h;
+      EXPECT_NEAR(h, expansion, 1e-9 * expansion);                       // one H for all: homologous
+    }
+    ++checked;
+  };
+  StopCriteria first;
+  first.time = 8.0;
+  const RunResult r = run_rigid(s, settings, first, w);
+  EXPECT_EQ(r.count("fragmentations"), 1);
+  EXPECT_EQ(checked, 1);
+}
+TEST(RigidBodyEngine, BreakupGivesBackThePreImpactEnergyByAnOutwardRadialVelocity3D) {
+  breakup_gives_back_the_pre_impact_energy<3>();
+}
+TEST(RigidBodyEngine, BreakupGivesBackThePreImpactEnergyByAnOutwardRadialVelocity2D) {
+  breakup_gives_back_the_pre_impact_energy<2>();
+}
+
 // ---- contact times against a brute-force reference -----------------------------------------
 
 // A body integrated independently of the engine: centre in a straight line, orientation by

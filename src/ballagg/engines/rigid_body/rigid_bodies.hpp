@@ -110,6 +110,13 @@ class RigidBodies {
 template <int D>
 double total_kinetic_energy(const State<D>& s);
 
+// The mean kinetic energy per body (translation plus rotation): Richardson's reference for
+// the collision outcomes (§3: "the initial mean kinetic energy"; §2.6).
+template <int D>
+double mean_kinetic_energy_per_body(const State<D>& s) {
+  return total_kinetic_energy(s) / s.n_clusters();
+}
+
 extern template class RigidBodies<2>;
 extern template class RigidBodies<3>;
 

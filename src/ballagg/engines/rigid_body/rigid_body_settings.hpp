@@ -18,6 +18,15 @@ enum class MergedRadius { constant_density, fixed };
 // The normal coefficient of restitution: a constant, or the ice law of Bridges et al.
 // (1984) that Richardson's §3 uses.
 enum class RestitutionLaw { constant, bridges };
+// Which impacts break up (§2.6): none; those above a multiple of the initial mean kinetic
+// energy per body (the paper's "fixed threshold determined solely by the initial energy of
+// the system"); those above an energy given as such.
+enum class Fragmentation { off, initial_energy, energy };
+
+// The default multiples of the initial mean kinetic energy per body: §3's restitution limit
+// is that energy itself, and §2.6 names no other multiple for the breakup threshold.
+inline constexpr double kDefaultEnergyThresholdFactor = 1.0;
+inline constexpr double kDefaultFragmentationFactor = 1.0;
 
 // The [collision] keys only the rigid-body engine reads.
 struct RigidBodyLaw {
@@ -30,11 +39,18 @@ struct RigidBodyLaw {
   double velocity_unit = 1.0;     // Bridges law: one unit of simulation speed in cm/s
   double mu_t = 0.0, mu_p = 0.0;  // transverse kinetic coefficients (16)-(17)
   // energy_threshold outcome: impacts with less energy than this stick, the others
-  // bounce. Unset until a run resolves its default (the initial mean kinetic energy per
-  // body); unset: every impact sticks.
+  // bounce. Unset until a run resolves its default, energy_threshold_factor times the
+  // initial mean kinetic energy per body; unset: every impact sticks.
   std::optional<double> energy_threshold;
+  // Set when the threshold is (or is to be) derived from the initial energy; unset when
+  // energy_threshold was given as an energy.
+  std::optional<double> energy_threshold_factor;
+  Fragmentation fragmentation = Fragmentation::off;
+  // Fragmentation::initial_energy: the threshold as a multiple of the initial mean kinetic
+  // energy per body (unset until resolved: kDefaultFragmentationFactor).
+  std::optional<double> fragmentation_factor;
   // Impacts with at least this energy that involve an aggregate break the joined body up
-  // into its spheres (§2.6). Unset: never.
+  // into its spheres (§2.6). Unset: never (set by a run for Fragmentation::initial_energy).
   std::optional<double> fragmentation_energy;
 };
 
