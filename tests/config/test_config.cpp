@@ -712,6 +712,38 @@ TEST(Config, TsDahaDefaultsFollowTheModelAndKeysOverrideThem) {
   EXPECT_DOUBLE_EQ(given.alpha, 0.043);
 }
 
+TEST(Config, TsPaperMethodTakesThePaperConstantsAndReadsBack) {
+  const Config c = parse_config_text("[engine]\nkind = \"ts\"\n[ts]\nmethod = \"paper\"\nmodel = \"almost-rigid\"\n", "t");
+  EXPECT_EQ(c.ts.method, ballagg::TsMethod::paper);
+  EXPECT_TRUE(c.ts.daha.printed_stopping);
+  EXPECT_DOUBLE_EQ(c.ts.daha.c_min, 0.0);
+  EXPECT_DOUBLE_EQ(c.ts.daha.c_max, 1.0);
+  EXPECT_DOUBLE_EQ(c.ts.daha.beta_bar, ballagg::kPaperBetaBar);
+  EXPECT_EQ(c.ts.daha.stall_iterations, 0);
+  const std::string text = ballagg::to_toml_text(c);
+  EXPECT_CONTAINS(text, "method = \"paper\"");
+  EXPECT_EQ(text.find("fall_back"), std::string::npos);
+  EXPECT_EQ(text.find("bond_stretch"), std::string::npos);
+  EXPECT_EQ(ballagg::to_toml_text(parse_config_text(text, "resolved")), text);
+  // Ours writes no method key: the configuration files of its runs stay as they were.
+  const Config ours = parse_config_text("[engine]\nkind = \"ts\"\n[ts]\nmodel = \"almost-rigid\"\n", "t");
+  EXPECT_EQ(ours.ts.method, ballagg::TsMethod::ours);
+  EXPECT_EQ(ballagg::to_toml_text(ours).find("method"), std::string::npos);
+}
+
+TEST(Config, TsPaperMethodRefusesTheRigidModelAndOurKeys) {
+  EXPECT_CONTAINS(error_of("[ts]\nmethod = \"paper\"\n"),
+                  "run.toml:2: ts.method = \"paper\": needs ts.model = \"non-rigid\" (3.5) or \"almost-rigid\"");
+  EXPECT_CONTAINS(error_of("[ts]\nmethod = \"paper\"\nmodel = \"rigid\"\n"), "the rigid model");
+  for (const char* key : {"fall_back = \"retreat\"", "retreat_pairs = 4", "retreat_overlap = 0.5",
+                          "sweep_reuse_margin = 1", "bond_stretch = 0.2"}) {
+    const std::string m = error_of(std::string("[ts]\nmethod = \"paper\"\nmodel = \"non-rigid\"\n") + key + "\n");
+    EXPECT_CONTAINS(m, "ts.method = \"paper\": the paper's method has no fall-back") << key;
+    EXPECT_CONTAINS(m, std::string(key).substr(0, std::string(key).find(' '))) << key;
+  }
+  EXPECT_CONTAINS(error_of("[ts]\nmethod = \"theirs\"\n"), "must be one of \"ours\", \"paper\"");
+}
+
 TEST(Config, TsSectionIsLeftOutOfTheResolvedConfigOfOtherEngines) {
   const Config c = parse_config_text("[ts]\nmodel = \"non-rigid\"\n", "t");
   EXPECT_EQ(ballagg::to_toml_text(c).find("[ts]"), std::string::npos);

@@ -426,6 +426,7 @@ std::string_view to_string(TsModel m) {
 }
 std::string_view to_string(TsDtRule r) { return r == TsDtRule::growth ? "growth" : "adaptive"; }
 std::string_view to_string(TsFallBack f) { return f == TsFallBack::retreat ? "retreat" : "keep-flight"; }
+std::string_view to_string(TsMethod m) { return m == TsMethod::ours ? "ours" : "paper"; }
 std::string_view to_string(CollisionOutcome o) {
   static constexpr std::string_view names[] = {"stick", "bounce", "energy-threshold"};
   return names[static_cast<int>(o)];

@@ -92,8 +92,15 @@ std::vector<Section> entries(const Config& c) {
               {"fall_back", str(to_string(t.fall_back))},
               {"dt_factor", t.dt_factor},
               {"dt_growth", t.dt_growth}}};
+  // The method and the keys of our additions: written for the method that has them, so
+  // the file reads back (and the configuration files of ts.method = "ours" stay as they were).
+  const bool paper = t.method == TsMethod::paper;
+  if (paper) {
+    ts.second.insert(ts.second.begin(), std::pair<std::string, Value>{"method", str(to_string(t.method))});
+    std::erase_if(ts.second, [](const auto& kv) { return kv.first == "fall_back"; });
+  }
   if (t.delta_w) ts.second.push_back({"delta_w", *t.delta_w});
-  ts.second.push_back({"bond_stretch", t.bond_stretch});
+  if (!paper) ts.second.push_back({"bond_stretch", t.bond_stretch});
   const DahaParameters& d = t.daha;
   for (auto&& [key, value] : std::initializer_list<std::pair<const char*, double>>{
            {"alpha", d.alpha}, {"gamma", d.gamma}, {"delta", d.delta}, {"c_bar", d.c_bar}, {"c_min", d.c_min}, {"c_max", d.c_max},
@@ -103,9 +110,11 @@ std::vector<Section> entries(const Config& c) {
   ts.second.push_back({"max_iterations", std::int64_t{d.max_iterations}});
   ts.second.push_back({"stall_iterations", std::int64_t{d.stall_iterations}});
   ts.second.push_back({"max_link_rounds", std::int64_t{t.max_link_rounds}});
-  ts.second.push_back({"retreat_overlap", t.retreat_overlap});
-  ts.second.push_back({"retreat_pairs", std::int64_t{t.retreat_pairs}});
-  ts.second.push_back({"sweep_reuse_margin", t.sweep_reuse_margin});
+  if (!paper) {
+    ts.second.push_back({"retreat_overlap", t.retreat_overlap});
+    ts.second.push_back({"retreat_pairs", std::int64_t{t.retreat_pairs}});
+    ts.second.push_back({"sweep_reuse_margin", t.sweep_reuse_margin});
+  }
   Section stop{"stop", {{"clusters", c.stop.clusters}, {"time", c.stop.time}, {"wall_seconds", c.stop.wall_seconds}}};
   if (c.stop.aggregated_fraction) stop.second.push_back({"aggregated_fraction", *c.stop.aggregated_fraction});
   std::vector<std::string> formats;

@@ -9,6 +9,25 @@
 #include "ballagg/core/input_error.hpp"
 
 namespace ballagg {
+namespace {
+
+// The keys of the engine's own additions, which ts.method = "paper" does not have.
+constexpr const char* kKeysOfOurMethod[] = {"fall_back", "retreat_overlap", "retreat_pairs", "sweep_reuse_margin",
+                                            "bond_stretch"};
+
+// ts.method = "paper" runs the per-sphere models of §3.1 and §3.3 as printed: the rigid
+// model is ours, and the keys of our additions would have no effect, so both are refused.
+void refuse_what_the_paper_has_not(SectionReader& ts, TsModel model) {
+  if (model == TsModel::rigid)
+    ts.refuse("method", "needs ts.model = \"non-rigid\" (3.5) or \"almost-rigid\" (3.30)-(3.31); the rigid model "
+                        "(the default) is not in the paper");
+  for (const char* key : kKeysOfOurMethod)
+    if (ts.has(key))
+      ts.refuse("method", fmt::format("the paper's method has no fall-back, rigid remainder or bond cap: ts.{} has no "
+                                      "effect with it (remove it, or use ts.method = \"ours\")", key));
+}
+
+}  // namespace
 
 TimeSteppingSettings read_ts_section(const toml::table& root, const std::string& source,
                                      const std::set<std::string>& overridden) {
@@ -17,7 +36,10 @@ TimeSteppingSettings read_ts_section(const toml::table& root, const std::string&
   SectionReader ts(root, "ts", source, overridden);
   auto in_open_unit = [](double v) { return v > 0.0 && v < 1.0; };
   if (auto v = ts.choice("model", {"rigid", "almost-rigid", "non-rigid"})) t.model = static_cast<TsModel>(*v);
-  d = default_daha(t.model);  // each model's own; the keys below override them
+  if (auto v = ts.choice("method", {"ours", "paper"})) t.method = static_cast<TsMethod>(*v);
+  if (t.method == TsMethod::paper) refuse_what_the_paper_has_not(ts, t.model);
+  // Each model's own (the paper's method: with (3.29) active); the keys below override them.
+  d = t.method == TsMethod::paper ? paper_daha(t.model) : default_daha(t.model);
   if (auto v = ts.choice("dt_rule", {"growth", "adaptive"})) t.dt_rule = static_cast<TsDtRule>(*v);
   if (auto v = ts.choice("fall_back", {"retreat", "keep-flight"})) t.fall_back = static_cast<TsFallBack>(*v);
   const auto dt_factor = ts.real("dt_factor", [](double v) { return v > 0.0 && v <= 1.0; }, "must be a number in (0, 1]");

@@ -75,7 +75,8 @@ void TimeSteppingEngine<D>::contact_pass(const State<D>& s, const std::vector<in
 // one a solution left touching, is settled while it touches (within eps_c); pushed deeper
 // (by another group's solution, or left so by a repair) it counts again. In the per-sphere
 // models an old link counts again when it is squeezed beyond eps_c, so that its group is
-// solved again.
+// solved again. With ts.method = "paper" such a pair is in S^{n,q} already and never counts
+// again (3.2): only pairs not yet in S are new, whatever the overlap of the others.
 template <int D>
 std::vector<SpherePair> TimeSteppingEngine<D>::new_overlaps(const State<D>& s, std::vector<int>& moved) {
   sort_unique_ids(moved, s.n_spheres());
@@ -84,7 +85,7 @@ std::vector<SpherePair> TimeSteppingEngine<D>::new_overlaps(const State<D>& s, s
   contact_pass(s, moved, [&](int i, int j, double d, double sigma) {
     const bool settled = S_.contains(i, j) || round_contacts_.find(i, j) != PairIndex::kAbsent ||
                          (!rigid() && links_.linked(i, j));
-    if (settled && 1.0 - d / sigma <= eps_c) return;
+    if (settled && (paper() || 1.0 - d / sigma <= eps_c)) return;
     if (rigid() && body_of_sphere(s, i) == body_of_sphere(s, j) && 1.0 - d / sigma <= eps_c) return;
     found[thread_index()].push_back({std::min(i, j), std::max(i, j), 0.0});
   });

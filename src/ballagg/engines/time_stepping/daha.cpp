@@ -30,7 +30,8 @@ Vec<D> separation(const DahaPair<D>& q, const std::vector<Vec<D>>& u) {
 
 // Multiplier update (3.24) at the new positions, and the overlaps for the next iteration.
 template <int D>
-void update_multipliers(DahaProblem<D>& prob, const std::vector<Vec<D>>& u, double beta, OverlapStats& s) {
+void update_multipliers(DahaProblem<D>& prob, const std::vector<Vec<D>>& u, double beta, bool printed,
+                        OverlapStats& s) {
   const bool per_variable = !s.sum.empty();
   std::fill(s.sum.begin(), s.sum.end(), 0.0);
   std::fill(s.count.begin(), s.count.end(), 0.0);
@@ -47,7 +48,8 @@ void update_multipliers(DahaProblem<D>& prob, const std::vector<Vec<D>>& u, doub
       rho = std::max(0.0, gap);
       // (3.28) read with complementarity: a constraint carrying a multiplier must hold as
       // an equality (touching, |1 - d / sigma| small), one without only as an inequality.
-      s.max = std::max(s.max, q.lambda > 0.0 ? std::abs(gap) : rho);
+      // As printed, only the overlap counts.
+      s.max = std::max(s.max, q.lambda > 0.0 && !printed ? std::abs(gap) : rho);
     } else if (q.guard) {
       continue;  // an idle guard: apart, without a multiplier
     }
@@ -69,20 +71,6 @@ void update_multipliers(DahaProblem<D>& prob, const std::vector<Vec<D>>& u, doub
     counted += 1.0;
   }
   s.mean = counted > 0.0 ? total / counted : 0.0;
-}
-
-// (3.29), beta = beta-bar sqrt(N) / phi_A: multipliers grow faster as the overlaps shrink
-// and as more spheres take part; capped, and at the cap when nothing overlaps.
-double dynamic_beta(const DahaParameters& p, int n_spheres, double mean_overlap) {
-  if (mean_overlap <= 0.0) return p.beta_max;
-  return std::min(p.beta_max, p.beta_bar * std::sqrt(static_cast<double>(n_spheres)) / mean_overlap);
-}
-
-// (3.29), c_i = c-bar |delta |V_i| - phi_i^A| / phi_A: damping grows as the mean overlap
-// shrinks, and when a variable moves much more (or less) per step than its own overlap.
-double dynamic_damping(const DahaParameters& p, double step_length, double own_overlap, double mean_overlap) {
-  if (mean_overlap <= 0.0) return p.c_max;
-  return std::clamp(p.c_bar * std::abs(step_length - own_overlap) / mean_overlap, p.c_min, p.c_max);
 }
 
 // The all-pairs potential of the non-rigid model, (3.5) with S every pair of the new
@@ -248,6 +236,27 @@ double largest_move(const std::vector<Vec<D>>& u, const std::vector<Vec<D>>& pre
   return std::sqrt(largest_squared_move);
 }
 
+// (3.27) as printed: |X^{r+1} - X^r| / |X^r|, the norms of the vectors of all the
+// problem's positions (X^r = start + u^r, from the box's corner: the measure depends on
+// where the origin is, as printed). Infinite while |X^r| = 0.
+template <int D>
+double relative_move(const DahaProblem<D>& prob, const std::vector<Vec<D>>& u, const std::vector<Vec<D>>& previous) {
+  double moved = 0.0, size = 0.0;
+  for (std::size_t k = 0; k < u.size(); ++k) {
+    moved += (u[k] - previous[k]).squaredNorm();
+    size += ((k < prob.start.size() ? prob.start[k] : Vec<D>::Zero()) + previous[k]).squaredNorm();
+  }
+  return size > 0.0 ? std::sqrt(moved / size) : std::numeric_limits<double>::infinity();
+}
+
+// (3.27)-(3.28): whether the iteration may stop.
+template <int D>
+bool stopping_conditions_met(const DahaProblem<D>& prob, const DahaParameters& p, const std::vector<Vec<D>>& u,
+                             const DahaIterate<D>& it) {
+  if (it.stats.max > p.eps_c) return false;
+  return (p.printed_stopping ? relative_move(prob, u, it.previous) : largest_move(u, it.previous)) <= p.eps_s;
+}
+
 // Progress watch for stall_iterations: the best worst-violation so far, and when it fell.
 struct StallWatch {
   double best_violation;
@@ -265,6 +274,20 @@ struct StallWatch {
 
 }  // namespace
 
+// (3.29), beta = beta-bar sqrt(N) / phi_A: multipliers grow faster as the overlaps shrink
+// and as more spheres take part; capped, and at the cap when nothing overlaps.
+double dynamic_beta(const DahaParameters& p, int n_spheres, double mean_overlap) {
+  if (mean_overlap <= 0.0) return p.beta_max;
+  return std::min(p.beta_max, p.beta_bar * std::sqrt(static_cast<double>(n_spheres)) / mean_overlap);
+}
+
+// (3.29), c_i = c-bar |delta |V_i| - phi_i^A| / phi_A: damping grows as the mean overlap
+// shrinks, and when a variable moves much more (or less) per step than its own overlap.
+double dynamic_damping(const DahaParameters& p, double step_length, double own_overlap, double mean_overlap) {
+  if (mean_overlap <= 0.0) return p.c_max;
+  return std::clamp(p.c_bar * std::abs(step_length - own_overlap) / mean_overlap, p.c_min, p.c_max);
+}
+
 // One iteration r -> r + 1 is (3.20)-(3.24); it stops on (3.27)-(3.28), at max_iterations,
 // when stalled, or when the run's guard says the step must end.
 template <int D>
@@ -276,7 +299,7 @@ DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<V
   // then neither gathered nor computed (the same iterates, sooner).
   DahaIterate<D> it(prob.inverse_mass, p.c_min < p.c_max);
   initial_multipliers(prob, p);
-  update_multipliers(prob, u, 0.0, it.stats);  // beta = 0: statistics only
+  update_multipliers(prob, u, 0.0, p.printed_stopping, it.stats);  // beta = 0: statistics only
   DahaResult result;
   const double half = 0.5 * p.delta;
   StallWatch watch{it.stats.max};
@@ -292,8 +315,8 @@ DahaResult minimise(DahaProblem<D>& prob, const DahaParameters& p, std::vector<V
     add_pair_forces(prob, p, u, it.force, it.stiffness);  // (3.21)
     damped_velocity_step(p, u, it, half);                  // (3.21)-(3.23)
     keep_within_walls(prob, u, it.velocity);
-    update_multipliers(prob, u, dynamic_beta(p, prob.n_spheres, it.stats.mean), it.stats);  // (3.24)
-    result.converged = largest_move(u, it.previous) <= p.eps_s && it.stats.max <= p.eps_c;  // (3.27), (3.28)
+    update_multipliers(prob, u, dynamic_beta(p, prob.n_spheres, it.stats.mean), p.printed_stopping, it.stats);  // (3.24)
+    result.converged = stopping_conditions_met(prob, p, u, it);  // (3.27), (3.28)
     if (result.converged) break;
     if (watch.stalled(p, it.stats.max, result.iterations)) break;
   }

@@ -57,6 +57,9 @@ struct DahaProblem {
   // Walls: per variable, the box of displacements (scaled) that keeps its spheres between
   // the walls; empty: no bounds (periodic boxes). The minimiser projects on it.
   std::vector<Vec<D>> lower, upper;
+  // Per variable, where it starts (scaled, from the box's corner): the |X^r| of (3.27) as
+  // printed (DahaParameters::printed_stopping); unused otherwise.
+  std::vector<Vec<D>> start;
   double range = 0.0;                 // Delta_W (scaled), for attract_within_range pairs
   int n_spheres = 0;                  // spheres involved: the sqrt(N) of (3.29)
 };
@@ -76,6 +79,13 @@ struct DahaResult {
   bool converged = false;             // both stopping conditions met before max_iterations
   double residual_overlap = 0.0;      // max over pairs of 1 - d / sigma at the end
 };
+
+// The dynamical parameters (3.29) of one iteration: beta from the number of spheres of the
+// problem and the mean relative overlap phi_A of its pairs, capped at beta_max; c_i from
+// the variable's step length delta |V_i| and its own mean overlap phi_i^A (diameters and
+// relative overlaps), clamped to [c_min, c_max]. Both at their cap when nothing overlaps.
+double dynamic_beta(const DahaParameters& p, int n_spheres, double mean_overlap);
+double dynamic_damping(const DahaParameters& p, double step_length, double own_overlap, double mean_overlap);
 
 // Iterations between two questions to the run's guard (RunGuard::step_must_end reads a
 // clock, which costs about as much as an iteration of the smallest problem).

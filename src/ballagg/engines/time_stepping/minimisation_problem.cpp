@@ -241,11 +241,13 @@ class PerSphereProblem {
   void assign_variables();
   void add(int i, int j, double lambda, bool bond = false);
   void add_pairs();
+  std::vector<SpherePair> links_of_the_solution(const std::vector<Vec<D>>& u) const;
 
   const StepView<D>& ctx_;
   const State<D>& s_;
   const CollisionGroup& g_;
   const bool local_attraction_;   // almost-rigid
+  const bool paper_;              // ts.method = "paper": every sphere mobile, no bond cap, rectangles of side Delta_W
   std::vector<int> spheres_;      // of the group, cluster by cluster
   std::vector<Vec<D>> x_;         // their positions
   std::unordered_map<int, int> local_;  // sphere -> index in spheres_
@@ -283,9 +285,12 @@ PerSphereProblem<D>::PerSphereProblem(const StepView<D>& ctx, const CollisionGro
       s_(ctx.state),
       g_(g),
       local_attraction_(ctx.settings.model == TsModel::almost_rigid),
+      paper_(ctx.settings.method == TsMethod::paper),
       spheres_(spheres_of_group(ctx, g)),
       x_(positions_of(ctx, spheres_)),
-      reach_(local_attraction_ ? (1.0 + kRangeMargin) * ctx.delta_w : (2.0 + kContactMargin) * s_.max_radius()),
+      reach_(!local_attraction_ ? (2.0 + kContactMargin) * s_.max_radius()
+             : paper_           ? ctx.delta_w
+                                : (1.0 + kRangeMargin) * ctx.delta_w),
       cells_(s_.box, reach_, static_cast<int>(x_.size())) {
   local_.reserve(spheres_.size());
   for (std::size_t a = 0; a < spheres_.size(); ++a) local_.emplace(spheres_[a], static_cast<int>(a));
@@ -299,6 +304,8 @@ PerSphereProblem<D>::PerSphereProblem(const StepView<D>& ctx, const CollisionGro
   mark_mobile();
   assign_variables();
   add_pairs();
+  if (paper_)
+    for (const Vec<D>& x : x_) prob_.start.push_back(x / ctx.length_scale);  // every sphere is a variable
 }
 
 // Almost-rigid: cells of side Delta_W (the "rectangles" of §3.3) over the group's spheres
@@ -306,11 +313,12 @@ PerSphereProblem<D>::PerSphereProblem(const StepView<D>& ctx, const CollisionGro
 // move each on its own; the rest of each cluster moves as one rigid part (one variable of
 // its mass), so a cluster deforms only near the impact ("a partial rigid body, where some
 // elasticity is admitted but only locally") and is carried as a whole by its links
-// otherwise. Non-rigid: every sphere is mobile.
+// otherwise. Non-rigid, and the paper's method (§3.3 moves every sphere): every sphere is
+// mobile.
 template <int D>
 void PerSphereProblem<D>::mark_mobile() {
-  mobile_.assign(spheres_.size(), local_attraction_ ? 0 : 1);
-  if (!local_attraction_) return;
+  mobile_.assign(spheres_.size(), local_attraction_ && !paper_ ? 0 : 1);
+  if (!local_attraction_ || paper_) return;
   for (int idx : g_.pairs)
     for (int i : {ctx_.S.pairs()[idx].i, ctx_.S.pairs()[idx].j}) {
       const Vec<D>& xi = x_[local_.at(i)];
@@ -353,7 +361,8 @@ void PerSphereProblem<D>::assign_variables() {
 // A pair is constrained; in the almost-rigid model it also attracts, while within Delta_W
 // (3.30) — a link (an adhesive bond, which this model never breaks) at any distance, and
 // may not stretch beyond (1 + bond_stretch) sigma. In the non-rigid model the attraction
-// is the all-pairs term.
+// is the all-pairs term. The paper's method: a link is a pair like any other, (3.30)
+// attracts it while within Delta_W, and nothing bounds its length.
 template <int D>
 void PerSphereProblem<D>::add(int i, int j, double lambda, bool bond) {
   const int a = variable_[local_.at(i)], b = variable_[local_.at(j)];
@@ -361,15 +370,16 @@ void PerSphereProblem<D>::add(int i, int j, double lambda, bool bond) {
   if (!index_.emplace(key(i, j), static_cast<int>(prob_.pairs.size())).second) return;
   DahaPair<D> q = make_pair(ctx_, i, j, a, b, lambda);
   q.attract = local_attraction_;
-  q.attract_within_range = local_attraction_ && !bond;
-  if (local_attraction_ && bond) q.stretch_limit = (1.0 + ctx_.settings.bond_stretch) * q.sigma;
+  q.attract_within_range = local_attraction_ && (paper_ || !bond);
+  if (local_attraction_ && bond && !paper_) q.stretch_limit = (1.0 + ctx_.settings.bond_stretch) * q.sigma;
   prob_.pairs.push_back(q);
   sphere_pairs_.push_back({std::min(i, j), std::max(i, j), lambda});
 }
 
 // S, then the old links and this step's links (the bodies' own, which hold their clusters
 // together like old links; their multipliers stay with the bodies), then every pair within
-// reach.
+// reach. The paper's method, almost-rigid (3.31): every pair of spheres in the same or
+// neighbouring rectangles (cells of side Delta_W), whatever their distance.
 template <int D>
 void PerSphereProblem<D>::add_pairs() {
   for (int idx : g_.pairs) add(ctx_.S.pairs()[idx].i, ctx_.S.pairs()[idx].j, ctx_.S.pairs()[idx].lambda);
@@ -385,7 +395,8 @@ void PerSphereProblem<D>::add_pairs() {
   last_link_ = prob_.pairs.size();
   for (std::size_t a = 0; a < x_.size(); ++a)
     cells_.for_each_near(x_[a], [&](int b) {
-      if (b > static_cast<int>(a) && s_.box.separation(x_[a], x_[b]).squaredNorm() <= reach_ * reach_)
+      if (b > static_cast<int>(a) &&
+          ((paper_ && local_attraction_) || s_.box.separation(x_[a], x_[b]).squaredNorm() <= reach_ * reach_))
         add(spheres_[a], spheres_[b], 0.0);
     });
 }
@@ -397,18 +408,36 @@ GroupSolution<D> PerSphereProblem<D>::solve() {
   if (ctx_.sink) ctx_.sink->record(prob_);
   out.result = minimise(prob_, ctx_.settings.daha, u, ctx_.guard);
   out.n_variables = static_cast<int>(mass_.size());
-  out.link_stretch = largest_stretch(prob_, u, first_link_, last_link_);
+  // The paper's method links every pair of S (it is S that makes the clusters), so those
+  // count among the links whose stretch is reported.
+  out.link_stretch = largest_stretch(prob_, u, paper_ ? 0 : first_link_, last_link_);
   for (SpherePair& l : links_) l.lambda = prob_.pairs[index_.at(key(l.i, l.j))].lambda;
   out.old_links = std::move(links_);
-  for (const SpherePair& c : touching_pairs(prob_, sphere_pairs_, u, ctx_.settings.daha.eps_c)) {
-    const int k = index_.at(key(c.i, c.j));
-    if (k < static_cast<int>(first_link_) || k >= static_cast<int>(last_link_)) out.contacts.push_back(c);
-  }
+  out.contacts = links_of_the_solution(u);
   for (std::size_t a = 0; a < spheres_.size(); ++a) {
     const Vec<D> shift = u[variable_[a]] * ctx_.length_scale;
     if (shift == Vec<D>::Zero()) continue;
     out.spheres.push_back(spheres_[a]);
     out.shift.push_back(shift);
+  }
+  return out;
+}
+
+// The new links a solution makes. Ours: the pairs it leaves touching, within eps_c (a
+// converged solution leaves every pair of S touching or apart). The paper's method, (3.2):
+// every pair of S, converged or not, and every other pair left touching or overlapping
+// (1 - d / sigma >= -eps_c: phi >= 0 up to the contact tolerance).
+template <int D>
+std::vector<SpherePair> PerSphereProblem<D>::links_of_the_solution(const std::vector<Vec<D>>& u) const {
+  const double eps_c = ctx_.settings.daha.eps_c;
+  std::vector<SpherePair> out;
+  for (std::size_t k = 0; k < prob_.pairs.size(); ++k) {
+    if (k >= first_link_ && k < last_link_) continue;  // a link already
+    const DahaPair<D>& q = prob_.pairs[k];
+    const double gap = 1.0 - (q.base + u[q.a] - u[q.b]).norm() / q.sigma;
+    const bool in_s = k < first_link_;
+    if (paper_ ? (in_s || gap >= -eps_c) : std::abs(gap) <= eps_c)
+      out.push_back({sphere_pairs_[k].i, sphere_pairs_[k].j, q.lambda});
   }
   return out;
 }

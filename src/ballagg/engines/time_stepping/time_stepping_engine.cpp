@@ -9,7 +9,8 @@
 //          until S^{n,q} = S^{n,q-1}                                             resolve
 //   3.     the new clusters, with the mass-weighted velocity of rule (2.9)      commit
 //
-// A group the DAHA does not solve goes to the fall-back (retreat.hpp, flight_sweep.hpp).
+// A group the DAHA does not solve goes to the fall-back (retreat.hpp, flight_sweep.hpp);
+// with ts.method = "paper" its iterate is accepted and counted, as the paper's loop would.
 // The class and the files of its other parts are in ts_engine.hpp.
 #include "ballagg/engines/time_stepping/time_stepping_engine.hpp"
 
@@ -99,7 +100,8 @@ void TimeSteppingEngine<D>::detect_overlaps(const State<D>& s) {
 // from then on), and takes as the next S the pairs the minimisation brought into contact.
 // An overlap inside a body dissolves it: its links rejoin S with that overlap, and its
 // clusters are solved again separately. The loop ends when a round brings no new contact;
-// max_link_rounds bounds it.
+// max_link_rounds bounds it. With ts.method = "paper" every solution is applied, converged
+// or not (end_of_loop says what becomes of the pairs left when the loop is cut short).
 template <int D>
 void TimeSteppingEngine<D>::resolve(const State<D>& s) {
   if (S_.empty()) return;
@@ -116,15 +118,17 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
     std::vector<GroupSolution<D>> solutions = minimise_groups(s, groups, out_of_rounds);
     moved.clear();
     std::vector<const GroupSolution<D>*> solved;
-    for (const GroupSolution<D>& solution : solutions)
-      if (solution.result.converged) solved.push_back(&solution);
+    for (const GroupSolution<D>& solution : solutions) {
+      if (paper() && !solution.result.converged) ++counters_.minimisations_unconverged;
+      if (solution.result.converged || paper()) solved.push_back(&solution);
+    }
     apply(s, solved, moved);
-    repair_unsolved(s, groups, solutions, moved);
+    if (!paper()) repair_unsolved(s, groups, solutions, moved);
     moved_in_step_.insert(moved_in_step_.end(), moved.begin(), moved.end());
     if (out_of_rounds) {
       end_round(s, groups, solutions, {});
       S_.clear();
-      settle(s, new_overlaps(s, moved));
+      end_of_loop(s, new_overlaps(s, moved));
       break;
     }
     // (3.2): the touching pairs become links, the new contacts the next S.
@@ -135,11 +139,24 @@ void TimeSteppingEngine<D>::resolve(const State<D>& s) {
       ++counters_.rounds_exhausted;  // stalled: what is left overlapping is settled
       const std::vector<SpherePair> left = S_.pairs();
       S_.clear();
-      settle(s, left);
+      end_of_loop(s, left);
       break;
     }
   }
   counters_.max_residual_overlap = std::max(counters_.max_residual_overlap, residual_overlap());
+}
+
+// The pairs still in contact when the loop is cut short. Ours: settled (settle.cpp). The
+// paper's method has no such step: the pairs are in S^{n,q} (3.2), so they are links and
+// their clusters merge where they are; the overlaps they keep are counted in
+// max_residual_overlap.
+template <int D>
+void TimeSteppingEngine<D>::end_of_loop(const State<D>& s, const std::vector<SpherePair>& left) {
+  if (!paper()) {
+    settle(s, left);
+    return;
+  }
+  for (const SpherePair& p : left) bodies_.link(p, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
 }
 
 // Whether this round is the loop's last: max_link_rounds reached, a round with the adhesive
@@ -158,14 +175,16 @@ bool TimeSteppingEngine<D>::round_is_last(int round, std::vector<std::uint64_t>&
 }
 
 // (3.1) for every group of the round at once, on the threads when there is enough work
-// (none in the loop's last round). A group beyond_minimisation is left unsolved.
+// (none in the loop's last round, whose groups go to the fall-back; with ts.method =
+// "paper", which has none, the last round is solved like the others). A group
+// beyond_minimisation is left unsolved.
 template <int D>
 std::vector<GroupSolution<D>> TimeSteppingEngine<D>::minimise_groups(const State<D>& s,
                                                                     const std::vector<CollisionGroup>& groups,
                                                                     bool out_of_rounds) {
   const StepView<D> ctx = view(s);
   std::vector<GroupSolution<D>> solutions(groups.size());
-  if (out_of_rounds) return solutions;
+  if (out_of_rounds && !paper()) return solutions;
   std::size_t work = 0;
   for (const CollisionGroup& g : groups) work += g.pairs.size();
 #pragma omp parallel for schedule(dynamic) if (groups.size() > 1 && work >= kParallelPairs)
@@ -281,7 +300,8 @@ bool TimeSteppingEngine<D>::end_round(const State<D>& s, const std::vector<Colli
 
 // Links the solutions' contacts that touch (within eps_c), in solution order; whether each
 // touches is read from scattered spheres, on the threads when there are many. Returns
-// whether a link joined two bodies.
+// whether a link joined two bodies. With ts.method = "paper" every contact is a link,
+// touching or not: they are S^{n,q} (3.2), which makes the clusters.
 template <int D>
 bool TimeSteppingEngine<D>::link_touching_contacts(const State<D>& s, const std::vector<GroupSolution<D>>& solutions) {
   const double eps_c = settings_.daha.eps_c;
@@ -297,7 +317,7 @@ bool TimeSteppingEngine<D>::link_touching_contacts(const State<D>& s, const std:
 #pragma omp parallel for schedule(dynamic, 256) if (touches.size() >= kParallelLoopMin)
   for (std::int64_t k = 0; k < n_solutions; ++k)
     for (std::size_t m = 0; m < solutions[k].contacts.size(); ++m)
-      touches[first_contact[k] + m] = touching(solutions[k].contacts[m]);
+      touches[first_contact[k] + m] = paper() || touching(solutions[k].contacts[m]);
   bool progress = false;
   for (std::size_t k = 0; k < solutions.size(); ++k)
     for (std::size_t m = 0; m < solutions[k].contacts.size(); ++m) {

@@ -69,7 +69,7 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
     for (int c : s.alive_clusters()) keep_inside_walls(s, c, s.time, false);
   }
   result.counters = counters_;
-  result.engine_counts = counters_.report(!rigid());
+  result.engine_counts = counters_.report(!rigid(), paper());
   result.wall_seconds = guard.elapsed();
   guard_ = nullptr;
   observer.on_finish(s, result);
@@ -104,7 +104,7 @@ void TimeSteppingEngine<D>::prepare(const State<D>& s) {
 template <int D>
 std::string TimeSteppingEngine<D>::save() const {
   ByteWriter w;
-  counters_.save(w);
+  counters_.save(w, paper());
   rule_->save(w);
   w.put<std::int32_t>(static_cast<std::int32_t>(positions_.size()));
   if (!rigid())
@@ -122,7 +122,7 @@ template <int D>
 void TimeSteppingEngine<D>::resume_from(State<D>& s, std::string_view saved) {
   ByteReader r(saved, "checkpoint of the ts engine");
   prepare(s);
-  counters_.restore(r);
+  counters_.restore(r, paper());
   rule_.emplace(settings_, s);
   rule_->restore(r);
   const int n = s.n_spheres();

@@ -55,6 +55,7 @@ class TimeSteppingEngine final : public Engine<D> {
   void detect_overlaps(const State<D>& s);
   void resolve(const State<D>& s);
   bool round_is_last(int round, std::vector<std::uint64_t>& earlier_rounds);
+  void end_of_loop(const State<D>& s, const std::vector<SpherePair>& left);
   std::vector<GroupSolution<D>> minimise_groups(const State<D>& s, const std::vector<CollisionGroup>& groups,
                                                 bool out_of_rounds);
   void repair_unsolved(const State<D>& s, const std::vector<CollisionGroup>& groups,
@@ -117,6 +118,7 @@ class TimeSteppingEngine final : public Engine<D> {
             .guard = guard_};
   }
   bool rigid() const { return settings_.model == TsModel::rigid; }
+  bool paper() const { return settings_.method == TsMethod::paper; }
   // Whether sphere i may have moved more than the near list's half skin since its
   // cluster's pairs were listed.
   bool beyond_half_skin(const State<D>& s, int i) const {
