@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "ballagg/core/finite_state.hpp"
 #include "support.hpp"
 
 namespace ballagg {
@@ -16,8 +17,12 @@ void run_shrunk(const Config& given) {
   stop.wall_seconds = 20;
   const RunResult r = make_engine<D>(c)->run(s, stop, *std::make_unique<RunObserver<D>>());
   EXPECT_NE(r.reason, StopReason::wall_seconds);
-  // Exact engines leave no overlap; time stepping leaves at most eps_c.
-  EXPECT_LE(testing::worst_overlap(s), c.engine.kind == EngineKind::ts ? c.ts.daha.eps_c : 1e-9);
+  // Exact engines leave no overlap; time stepping leaves at most eps_c. The paper's method as
+  // printed takes its unconverged minimisations as they are and reports what they leave.
+  if (c.engine.kind == EngineKind::ts && c.ts.method == TsMethod::paper)
+    EXPECT_EQ(first_non_finite(s), std::nullopt);
+  else
+    EXPECT_LE(testing::worst_overlap(s), c.engine.kind == EngineKind::ts ? c.ts.daha.eps_c : 1e-9);
 }
 
 TEST(Examples, EveryExampleConfigurationLoadsAndRuns) {
@@ -39,13 +44,16 @@ TEST(Examples, EveryExampleConfigurationLoadsAndRuns) {
 }
 
 // The configurations of examples/degond2023 (the paper's Appendix A and C set-ups), each
-// shrunk to at most 300 spheres as above, keeping the box rule it gives.
+// shrunk to at most 300 spheres as above, keeping the box rule it gives; those of the paper's
+// method as printed to 100, since its non-rigid model takes minutes from a few hundred
+// (docs/validation.md).
 TEST(Examples, EveryDegond2023ConfigurationLoadsAndRuns) {
   int seen = 0;
   for (const auto& entry : std::filesystem::directory_iterator(std::string(BALLAGG_SOURCE_DIR) + "/examples/degond2023")) {
     if (entry.path().extension() != ".toml") continue;
     SCOPED_TRACE(entry.path().string());
     Config c = load_config(entry.path().string(), {"system.n=300"});
+    if (c.engine.kind == EngineKind::ts && c.ts.method == TsMethod::paper) c.system.n = 100;
     if (c.system.dimension == 2) run_shrunk<2>(c); else run_shrunk<3>(c);
     ++seen;
   }

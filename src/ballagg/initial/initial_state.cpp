@@ -12,6 +12,7 @@
 
 #include "ballagg/core/random.hpp"
 #include "ballagg/core/tolerances.hpp"
+#include "ballagg/initial/lattice_sites.hpp"
 #include "ballagg/initial/polydisperse_start.hpp"
 #include "ballagg/initial/space_filling_curve.hpp"
 #include "ballagg/initial/sphere_layout_check.hpp"
@@ -56,9 +57,7 @@ template <int D>
 std::vector<Vec<D>> lattice_positions(const Config& c, const Box<D>& box) {
   const std::int64_t n = c.system.n;
   const std::int64_t side = lattice_side(n, D);
-  // App. A's lattice of a given spacing sets the box (resolved_box_length); the spacing
-  // is taken as given, not divided back out of the box.
-  const double spacing = c.initial.lattice_spacing.value_or(box.length / static_cast<double>(side));
+  const double spacing = lattice_spacing(c, box);
   if (spacing <= 2.0 * c.system.radius) {
     const double max_vf = (D == 2 ? std::numbers::pi / 4.0 : std::numbers::pi / 6.0) *
                           static_cast<double>(n) / std::pow(side, D);
@@ -67,14 +66,7 @@ std::vector<Vec<D>> lattice_positions(const Config& c, const Box<D>& box) {
         "than the diameter {:.6g}; lower system.volume_fraction below {:.4f} (or the radius), or enlarge the box",
         placement_origin(c), n, side, spacing, 2.0 * c.system.radius, max_vf));
   }
-  std::vector<Vec<D>> x(n);
-  for (std::int64_t k = 0; k < n; ++k) {
-    std::int64_t rest = k;
-    for (int a = 0; a < D; ++a) {
-      x[k][a] = (static_cast<double>(rest % side) + 0.5) * spacing;
-      rest /= side;
-    }
-  }
+  std::vector<Vec<D>> x = lattice_sites<D>(n, side, spacing);
   number_along_space_filling_curve(x, box);
   return x;
 }

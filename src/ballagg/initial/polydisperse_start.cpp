@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "ballagg/core/random.hpp"
+#include "ballagg/initial/lattice_sites.hpp"
 #include "ballagg/initial/space_filling_curve.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
 
@@ -14,25 +15,17 @@ namespace ballagg {
 namespace {
 
 template <int D>
-std::vector<Vec<D>> lattice_sites(const Config& c, const Box<D>& box, double largest) {
+std::vector<Vec<D>> lattice_start(const Config& c, const Box<D>& box, double largest) {
   const std::int64_t n = c.system.n;
   const std::int64_t side = lattice_side(n, D);
-  const double spacing = c.initial.lattice_spacing.value_or(box.length / static_cast<double>(side));
+  const double spacing = lattice_spacing(c, box);
   if (spacing <= 2.0 * largest)
     throw InputError(fmt::format(
         "{}: initial.positions = \"lattice\": {} spheres need a {}-per-side lattice whose spacing {:.6g} is not larger "
         "than the largest sampled diameter {:.6g}; {}, narrow system.radius_distribution, "
         "or use initial.positions = \"random\"", c.source, n, side, spacing, 2.0 * largest,
         c.initial.lattice_spacing ? "raise initial.lattice_spacing" : "lower system.volume_fraction"));
-  std::vector<Vec<D>> x(n);
-  for (std::int64_t k = 0; k < n; ++k) {
-    std::int64_t rest = k;
-    for (int a = 0; a < D; ++a) {
-      x[k][a] = (static_cast<double>(rest % side) + 0.5) * spacing;
-      rest /= side;
-    }
-  }
-  return x;
+  return lattice_sites<D>(n, side, spacing);
 }
 
 // A uniform point at which sphere i (radius r[i]) overlaps none placed before, or throws.
@@ -80,7 +73,7 @@ SphereTable<D> sized_spheres(const Config& c, const Box<D>& box) {
   const std::vector<double> r =
       sample_radii(c.system.radius_distribution, c.system.radius, c.system.n, c.initial.seed);
   const double largest = *std::max_element(r.begin(), r.end());
-  const std::vector<Vec<D>> x = c.initial.positions == InitialPositions::lattice ? lattice_sites<D>(c, box, largest)
+  const std::vector<Vec<D>> x = c.initial.positions == InitialPositions::lattice ? lattice_start<D>(c, box, largest)
                                                                                   : random_points<D>(c, box, r, largest);
   SphereTable<D> t;
   for (std::size_t i : z_order<D>(x, box)) {
