@@ -7,9 +7,16 @@ Each realization is `ballagg run` (periodic box, random start, Gaussian velociti
 total momentum, to 20 clusters) and `ballagg analyze --kinetics` (the automatic window,
 docs/analysis.md "Kinetics"). Prints a Markdown table: the mean of z and theta over the
 realizations with the standard deviation of the mean, the mean of the per-run fit errors,
-and the mean-field z for coalescing spheres, 2d/(d+2).
+and the mean-field z for coalescing spheres, 2d/(d+2). For fractal clusters, also the
+fractal dimension of the late clusters from their mass-radius relation: `ballagg analyze`
+fits R_max ~ size^(1/D_f) over the 20 clusters left (population.r_max_vs_size), and the
+mean over realizations of 1/slope is given with its SEM, beside the mean of the clusters'
+own mass-radius dimensions (population.mean_mass_radius_dimension).
 
-Usage: bench/kinetics_exponents.py [--realizations 10] [--cases 2d-spheres ...] [--n N]
+--vfs runs every chosen case at each of the given volume fractions instead of its own
+(the density dependence of the exponents).
+
+Usage: bench/kinetics_exponents.py [--realizations 10] [--cases 2d-spheres ...] [--n N] [--vfs VF ...]
 Only the Python standard library is used.
 """
 import argparse
@@ -34,8 +41,9 @@ CASES = {
 }
 
 
-def realization(case, n, seed):
-    _, dimension, vf, sets = CASES[case]
+def realization(case, n, vf, seed):
+    """kinetics.json of one run, and analysis.json's population section for fractal clusters."""
+    _, dimension, _, sets = CASES[case]
     with tempfile.TemporaryDirectory() as out:
         run = os.path.join(out, "run")
         cmd = [BINARY, "run", "-q", "--out", run, "--seed", str(seed), "--set", f"system.dimension={dimension}",
@@ -45,7 +53,13 @@ def realization(case, n, seed):
         subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, env={**os.environ, "OMP_NUM_THREADS": "1"})
         subprocess.run([BINARY, "analyze", "-q", run, "--kinetics"], check=True, stdout=subprocess.DEVNULL)
         with open(os.path.join(run, "kinetics.json")) as f:
-            return json.load(f)
+            kinetics = json.load(f)
+        population = None
+        if "spheres" not in case:
+            subprocess.run([BINARY, "analyze", "-q", run], check=True, stdout=subprocess.DEVNULL)
+            with open(os.path.join(run, "analysis.json")) as f:
+                population = json.load(f)["population"]
+        return kinetics, population
 
 
 def mean_and_sem(values):
@@ -59,6 +73,7 @@ def main():
     p.add_argument("--realizations", type=int, default=10)
     p.add_argument("--cases", nargs="+", default=list(CASES), choices=list(CASES))
     p.add_argument("--n", type=int, default=20000)
+    p.add_argument("--vfs", nargs="+", type=float, help="volume fractions for every case (default: each case's own)")
     args = p.parse_args()
     if not os.path.exists(BINARY):
         sys.exit(f"{BINARY} not found: run `make build` first")
@@ -66,20 +81,31 @@ def main():
     print(f"command: bench/kinetics_exponents.py {' '.join(sys.argv[1:])}".rstrip())
     print()
     print("| case | N | Vf | realizations | z (mean ± SEM) | mean fit error of z | theta (mean ± SEM) | "
-          "mean-field z, coalescing spheres |")
-    print("|---|---|---|---|---|---|---|---|")
+          "mean-field z, coalescing spheres | D_f of the late clusters, 1 / slope of R_max(size) | "
+          "mean mass-radius D_f of the clusters |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for case in args.cases:
-        label, dimension, vf, _ = CASES[case]
-        fits = [realization(case, args.n, seed) for seed in range(1, args.realizations + 1)]
-        z = [f["clusters_decay_z"]["exponent"] for f in fits if f["clusters_decay_z"]["exponent"] is not None]
-        theta = [f["energy_decay_theta"]["exponent"] for f in fits if f["energy_decay_theta"]["exponent"] is not None]
-        fit_error = statistics.mean(f["clusters_decay_z"]["exponent_error"] for f in fits
-                                    if f["clusters_decay_z"]["exponent_error"] is not None)
-        zm, ze = mean_and_sem(z)
-        tm, te = mean_and_sem(theta)
-        print(f"| {label} | {args.n} | {vf} | {len(z)} | {zm:.3f} ± {ze:.3f} | {fit_error:.3f} | {tm:.3f} ± {te:.3f} | "
-              f"{2 * dimension / (dimension + 2):.3f} |", flush=True)
+        label, dimension, own_vf, _ = CASES[case]
+        for vf in args.vfs or [own_vf]:
+            print(row(label, dimension, args.n, vf,
+                      [realization(case, args.n, vf, seed) for seed in range(1, args.realizations + 1)]), flush=True)
 
+
+def row(label, dimension, n, vf, results):
+    fits = [k for k, _ in results]
+    z = [f["clusters_decay_z"]["exponent"] for f in fits if f["clusters_decay_z"]["exponent"] is not None]
+    theta = [f["energy_decay_theta"]["exponent"] for f in fits if f["energy_decay_theta"]["exponent"] is not None]
+    fit_error = statistics.mean(f["clusters_decay_z"]["exponent_error"] for f in fits
+                                if f["clusters_decay_z"]["exponent_error"] is not None)
+    zm, ze = mean_and_sem(z)
+    tm, te = mean_and_sem(theta)
+    late = [1.0 / p["r_max_vs_size"]["slope"] for _, p in results if p and p["r_max_vs_size"]["slope"]]
+    own = [p["mean_mass_radius_dimension"]["mean"] for _, p in results
+           if p and p["mean_mass_radius_dimension"]["clusters"]]
+    late_text = "{:.3f} ± {:.3f}".format(*mean_and_sem(late)) if late else ""
+    own_text = "{:.3f} ± {:.3f}".format(*mean_and_sem(own)) if own else ""
+    return (f"| {label} | {n} | {vf} | {len(z)} | {zm:.3f} ± {ze:.3f} | {fit_error:.3f} | {tm:.3f} ± {te:.3f} | "
+            f"{2 * dimension / (dimension + 2):.3f} | {late_text} | {own_text} |")
 
 if __name__ == "__main__":
     main()

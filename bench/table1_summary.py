@@ -165,6 +165,7 @@ def main(dirs):
                 print(f"| {n} | {vf:g} | " + " | ".join(cells) + " |")
     side_by_side("largest_aspect_ratio", "Aspect ratio A_r (4.3)", 2)
     side_by_side("largest_orientation_x_abs", "|D_x| of the orientation (4.4)", 2)
+    side_by_side("max_overlap", "Largest relative overlap 1 - d / (R_i + R_j) of the run (summary.json max_overlap)", 3)
     side_by_side("wall_seconds", "Wall time (s) of the engine", 3)
 
 

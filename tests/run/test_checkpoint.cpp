@@ -511,6 +511,19 @@ TEST(CheckpointCli, RigidBodyKilledAtRandomResumesIdentically) {
       true);
 }
 
+// The fragmentation threshold taken from the initial energy: a resumed run keeps the
+// threshold of its start (saved with the configuration), not one from the energy at the
+// checkpoint, which collisions have lowered.
+TEST(CheckpointCli, RigidBodyWithInitialEnergyFragmentationResumesIdentically) {
+  expect_killed_run_resumes_identically<3>(
+      {"engine.kind=\"rigid-body\"", "system.dimension=3", "system.n=1500", "system.box_length=10", "system.radius=0.033",
+       "system.boundary=\"periodic\"", "initial.positions=\"random\"", "initial.velocities=\"gaussian\"",
+       "initial.speed=10", "initial.zero_momentum=true", "collision.outcome=\"energy-threshold\"",
+       "collision.restitution_law=\"bridges\"", "collision.velocity_unit=0.01",
+       "collision.fragmentation=\"initial-energy\"", "stop.time=8"},
+      false);
+}
+
 // SIGTERM (and SIGINT) write a checkpoint, say how to resume, exit with 128 + signal.
 TEST(CheckpointCli, SigtermWritesCheckpointAndSaysHowToResume) {
   TempDir tmp;
