@@ -37,8 +37,9 @@ void add_radius_distribution(const SystemConfig& s, std::vector<std::pair<std::s
   }
 }
 
-std::vector<Section> entries(const Config& c) {
-  auto str = [](std::string_view v) { return Value(std::string(v)); };
+Value str(std::string_view v) { return Value(std::string(v)); }
+
+Section system_section(const Config& c) {
   Section system{"system", {{"dimension", std::int64_t{c.system.dimension}}, {"n", c.system.n}}};
   if (c.system.volume_fraction) system.second.push_back({"volume_fraction", *c.system.volume_fraction});
   if (c.system.box_length) system.second.push_back({"box_length", *c.system.box_length});
@@ -47,6 +48,10 @@ std::vector<Section> entries(const Config& c) {
   if (c.system.density) system.second.push_back({"density", *c.system.density});
   else system.second.push_back({"mass", c.system.mass});
   system.second.push_back({"boundary", str(to_string(c.system.boundary))});
+  return system;
+}
+
+Section initial_section(const Config& c) {
   Section initial{"initial",
                   {{"positions", str(to_string(c.initial.positions))},
                    {"velocities", str(to_string(c.initial.velocities))},
@@ -58,34 +63,39 @@ std::vector<Section> entries(const Config& c) {
   if (c.initial.time != 0.0) initial.second.push_back({"time", c.initial.time});
   initial.second.push_back({"zero_momentum", c.initial.zero_momentum});
   initial.second.push_back({"seed", static_cast<std::int64_t>(c.initial.seed)});
+  return initial;
+}
+
+// The rigid-body engine's collision law (RigidBodyLaw), after the keys every engine reads.
+void add_rigid_body_law(const RigidBodyLaw& k, int dimension, std::vector<std::pair<std::string, Value>>& keys) {
+  keys.push_back({"coagulation", str(to_string(k.coagulation))});
+  if (k.coagulation == Coagulation::sphere) {
+    keys.push_back({"merged_radius", str(to_string(k.merged_radius))});
+    keys.push_back({"constant_speed", k.constant_speed});
+  }
+  keys.push_back({"restitution_law", str(to_string(k.restitution_law))});
+  if (k.restitution_law == RestitutionLaw::bridges) {
+    std::erase_if(keys, [](const auto& kv) { return kv.first == "restitution"; });
+    keys.push_back({"velocity_unit", k.velocity_unit});
+  }
+  keys.push_back({"mu_t", k.mu_t});
+  if (dimension == 3) keys.push_back({"mu_p", k.mu_p});
+  if (k.energy_threshold) keys.push_back({"energy_threshold", *k.energy_threshold});
+  if (k.energy_threshold_factor) keys.push_back({"energy_threshold_factor", *k.energy_threshold_factor});
+  // Written when on only: the configuration files of runs without it stay as they were.
+  if (k.fragmentation != Fragmentation::off) keys.push_back({"fragmentation", str(to_string(k.fragmentation))});
+  if (k.fragmentation_factor) keys.push_back({"fragmentation_factor", *k.fragmentation_factor});
+  if (k.fragmentation_energy) keys.push_back({"fragmentation_energy", *k.fragmentation_energy});
+}
+
+Section collision_section(const Config& c) {
   Section collision{"collision", {{"outcome", str(to_string(c.collision.outcome))}, {"restitution", c.collision.restitution}}};
   if (c.collision.tc_time) collision.second.push_back({"tc_time", *c.collision.tc_time});
-  const bool rigid = c.engine.kind == EngineKind::rigid_body;
-  if (rigid) {
-    const RigidBodyLaw& k = c.rigid_body;
-    auto& keys = collision.second;
-    keys.push_back({"coagulation", str(to_string(k.coagulation))});
-    if (k.coagulation == Coagulation::sphere) {
-      keys.push_back({"merged_radius", str(to_string(k.merged_radius))});
-      keys.push_back({"constant_speed", k.constant_speed});
-    }
-    keys.push_back({"restitution_law", str(to_string(k.restitution_law))});
-    if (k.restitution_law == RestitutionLaw::bridges) {
-      std::erase_if(keys, [](const auto& kv) { return kv.first == "restitution"; });
-      keys.push_back({"velocity_unit", k.velocity_unit});
-    }
-    keys.push_back({"mu_t", k.mu_t});
-    if (c.system.dimension == 3) keys.push_back({"mu_p", k.mu_p});
-    if (k.energy_threshold) keys.push_back({"energy_threshold", *k.energy_threshold});
-    if (k.energy_threshold_factor) keys.push_back({"energy_threshold_factor", *k.energy_threshold_factor});
-    // Written when on only: the configuration files of runs without it stay as they were.
-    if (k.fragmentation != Fragmentation::off) keys.push_back({"fragmentation", str(to_string(k.fragmentation))});
-    if (k.fragmentation_factor) keys.push_back({"fragmentation_factor", *k.fragmentation_factor});
-    if (k.fragmentation_energy) keys.push_back({"fragmentation_energy", *k.fragmentation_energy});
-  }
-  Section engine{"engine", {{"kind", str(to_string(c.engine.kind))}}};
-  if (c.engine.skin) engine.second.push_back({"skin", *c.engine.skin});
-  const TimeSteppingSettings& t = c.ts;
+  if (c.engine.kind == EngineKind::rigid_body) add_rigid_body_law(c.rigid_body, c.system.dimension, collision.second);
+  return collision;
+}
+
+Section ts_section(const TimeSteppingSettings& t) {
   Section ts{"ts",
              {{"model", str(to_string(t.model))},
               {"dt_rule", str(to_string(t.dt_rule))},
@@ -115,8 +125,10 @@ std::vector<Section> entries(const Config& c) {
     ts.second.push_back({"retreat_pairs", std::int64_t{t.retreat_pairs}});
     ts.second.push_back({"sweep_reuse_margin", t.sweep_reuse_margin});
   }
-  Section stop{"stop", {{"clusters", c.stop.clusters}, {"time", c.stop.time}, {"wall_seconds", c.stop.wall_seconds}}};
-  if (c.stop.aggregated_fraction) stop.second.push_back({"aggregated_fraction", *c.stop.aggregated_fraction});
+  return ts;
+}
+
+Section output_section(const Config& c) {
   std::vector<std::string> formats;
   for (SnapshotFormat f : c.output.snapshot_formats) formats.emplace_back(to_string(f));
   Section output{"output",
@@ -128,8 +140,19 @@ std::vector<Section> entries(const Config& c) {
                   {"checkpoint_every", c.output.checkpoint_every}}};
   // Written when set only: the configuration files of runs without it stay as they were.
   if (c.output.h5md_pad_3d) output.second.push_back({"h5md_pad_3d", true});
-  if (c.engine.kind != EngineKind::ts) return {system, initial, collision, engine, stop, output};
-  return {system, initial, collision, engine, ts, stop, output};
+  return output;
+}
+
+std::vector<Section> entries(const Config& c) {
+  Section engine{"engine", {{"kind", str(to_string(c.engine.kind))}}};
+  if (c.engine.skin) engine.second.push_back({"skin", *c.engine.skin});
+  Section stop{"stop", {{"clusters", c.stop.clusters}, {"time", c.stop.time}, {"wall_seconds", c.stop.wall_seconds}}};
+  if (c.stop.aggregated_fraction) stop.second.push_back({"aggregated_fraction", *c.stop.aggregated_fraction});
+  std::vector<Section> sections{system_section(c), initial_section(c), collision_section(c), engine};
+  if (c.engine.kind == EngineKind::ts) sections.push_back(ts_section(c.ts));
+  sections.push_back(stop);
+  sections.push_back(output_section(c));
+  return sections;
 }
 
 std::string toml_value(const Value& v) {

@@ -254,6 +254,26 @@ void write_run_files(const std::string& dir, const Config& config, std::string_v
   std::filesystem::remove(std::filesystem::path(dir) / kCheckpointFile, ec);
 }
 
+// The engine of a resumed run takes up its own state from the checkpoint, which must be
+// its own engine's.
+template <int D>
+void resume_engine(Engine<D>& engine, State<D>& state, const Checkpoint& resume, const std::string& dir) {
+  if (resume.engine != engine.name())
+    throw CheckpointError(
+        fmt::format("{}: written by engine {} for a configuration of engine {}", dir, resume.engine, engine.name()));
+  engine.resume_from(state, resume.engine_state);
+}
+
+// A run stopped by the caps on rows and frames says so, and how to lift them.
+template <int D>
+void report_output_limit(double time) {
+  fmt::print(stderr,
+             "ballagg: the run stopped at t = {} with as many rows or frames as are written (at most {} rows of "
+             "timeseries.csv, {} trajectory frames): set a larger output.timeseries_interval or "
+             "output.snapshot_every, or a stop.time\n",
+             time, TimeseriesRecorder<D>::kMaxRows, SnapshotRecorder<D>::kMaxFrames + 2);
+}
+
 // A fresh run (resume = null), or the continuation of one from its checkpoint (given is
 // then the checkpoint's resolved configuration and options.out_dir its directory).
 template <int D>
@@ -265,10 +285,7 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
   std::unique_ptr<Engine<D>> engine = make_engine<D>(config);
   const double earlier_seconds = resume ? resume->wall_seconds : 0.0;
   if (resume) {
-    if (resume->engine != engine->name())
-      throw CheckpointError(fmt::format("{}: written by engine {} for a configuration of engine {}", options.out_dir,
-                                        resume->engine, engine->name()));
-    engine->resume_from(state, resume->engine_state);
+    resume_engine(*engine, state, *resume, options.out_dir);
     stop.wall_seconds -= earlier_seconds;  // stop.wall_seconds bounds the whole run
   }
 
@@ -328,12 +345,7 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
     throw_interrupted(dir, created, state.time);
   }
   result.wall_seconds += earlier_seconds;
-  if (result.reason == StopReason::output_limit && !options.quiet)
-    fmt::print(stderr,
-               "ballagg: the run stopped at t = {} with as many rows or frames as are written (at most {} rows of "
-               "timeseries.csv, {} trajectory frames): set a larger output.timeseries_interval or "
-               "output.snapshot_every, or a stop.time\n",
-               state.time, TimeseriesRecorder<D>::kMaxRows, SnapshotRecorder<D>::kMaxFrames + 2);
+  if (result.reason == StopReason::output_limit && !options.quiet) report_output_limit<D>(state.time);
 
   write_run_files(dir, config, engine->name(), initial, state, result, timeseries.csv());
   return dir;
