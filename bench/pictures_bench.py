@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Cost of snapshots and pictures at N = 10^6 (docs/performance.md, "Pictures and snapshots").
+"""Cost of snapshots and pictures at N = 10^6 (docs/pictures.md, "Costs").
 
 1. A 2D run (N = 10^6, Vf = 0.3, walls, event-driven, to one cluster) without and with
    snapshots every 1/100 of its simulated duration (H5MD only), alternating, REPEATS

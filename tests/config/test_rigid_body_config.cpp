@@ -133,22 +133,26 @@ TEST(RigidBodyConfig, FragmentationKeysAreReadAndTheirCombinationsChecked) {
   const Config absolute = parse_config_text(r + "[collision]\nfragmentation_energy = 40\n", "t");
   EXPECT_EQ(absolute.rigid_body.fragmentation, Fragmentation::energy);  // an energy alone means "energy"
   EXPECT_EQ(parse_config_text(r, "t").rigid_body.fragmentation, Fragmentation::off);
-  EXPECT_CONTAINS(error_of(r + "[collision]\nfragmentation = \"sometimes\"\n"),
-                  "collision.fragmentation = \"sometimes\": must be one of \"off\", \"initial-energy\", \"energy\"");
-  EXPECT_CONTAINS(error_of(r + "[collision]\nfragmentation = \"initial-energy\"\nfragmentation_factor = 0\n"),
-                  "collision.fragmentation_factor = 0: must be a number > 0");
-  EXPECT_CONTAINS(error_of(r + "[collision]\nfragmentation = \"off\"\nfragmentation_energy = 1\n"),
-                  "collision.fragmentation = \"off\" with collision.fragmentation_energy");
-  EXPECT_CONTAINS(error_of(r + "[collision]\nfragmentation = \"energy\"\n"),
-                  "collision.fragmentation = \"energy\" needs collision.fragmentation_energy");
-  EXPECT_CONTAINS(error_of(r + "[collision]\nfragmentation_factor = 2\n"),
-                  "collision.fragmentation_factor is only used with collision.fragmentation = \"initial-energy\"");
-  EXPECT_CONTAINS(error_of(r + "[collision]\ncoagulation = \"sphere\"\nfragmentation = \"initial-energy\"\n"),
-                  "collision.fragmentation breaks aggregates up: it needs collision.coagulation = \"aggregate\"");
-  EXPECT_CONTAINS(error_of(r + "[collision]\nenergy_threshold_factor = 2\n"),
-                  "collision.energy_threshold_factor is only used with collision.outcome = \"energy-threshold\"");
-  EXPECT_CONTAINS(error_of(r + "[collision]\noutcome = \"energy-threshold\"\nenergy_threshold_factor = -1\n"),
-                  "collision.energy_threshold_factor = -1: must be a number > 0");
+  // Each collision section with what its one-line error must say.
+  const std::pair<std::string, std::string> refused[] = {
+      {"fragmentation = \"sometimes\"\n",
+       "collision.fragmentation = \"sometimes\": must be one of \"off\", \"initial-energy\", \"energy\""},
+      {"fragmentation = \"initial-energy\"\nfragmentation_factor = 0\n",
+       "collision.fragmentation_factor = 0: must be a number > 0"},
+      {"fragmentation = \"off\"\nfragmentation_energy = 1\n",
+       "collision.fragmentation = \"off\" with collision.fragmentation_energy"},
+      {"fragmentation = \"energy\"\n",
+       "collision.fragmentation = \"energy\" needs collision.fragmentation_energy"},
+      {"fragmentation_factor = 2\n",
+       "collision.fragmentation_factor is only used with collision.fragmentation = \"initial-energy\""},
+      {"coagulation = \"sphere\"\nfragmentation = \"initial-energy\"\n",
+       "collision.fragmentation breaks aggregates up: it needs collision.coagulation = \"aggregate\""},
+      {"energy_threshold_factor = 2\n",
+       "collision.energy_threshold_factor is only used with collision.outcome = \"energy-threshold\""},
+      {"outcome = \"energy-threshold\"\nenergy_threshold_factor = -1\n",
+       "collision.energy_threshold_factor = -1: must be a number > 0"},
+  };
+  for (const auto& [section, message] : refused) EXPECT_CONTAINS(error_of(r + "[collision]\n" + section), message);
   EXPECT_CONTAINS(error_of(r, {"collision.fragmentation=energy"}), "--set collision.fragmentation=energy");
 }
 

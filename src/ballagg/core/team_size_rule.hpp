@@ -20,7 +20,7 @@ namespace ballagg {
 inline constexpr double kTeamSampleSeconds = 0.02;
 // The team shrinks when its threads waited, together, at least this many cores' worth of
 // the sample (waiting time / wall time): a team beside a busy process waits about half a
-// core's worth, one alone a few hundredths (docs/performance.md, "On a shared machine"),
+// core's worth, one alone a few hundredths (docs/time_stepping.md, "On a shared machine"),
 // and the threshold lies well between.
 inline constexpr double kTeamWaitingToShrink = 0.25;
 // After the team shrank, the full team is tried again this long after (seconds)...
