@@ -3,6 +3,7 @@
 // analytic wall and contact times that every engine meets: tests/engines/test_engine_physics.cpp.
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <stdexcept>
 
 #include <gtest/gtest.h>
@@ -241,6 +242,46 @@ TEST_P(EventDriven, StopsAtTheWallClockLimit) {
   EXPECT_GE(r.wall_seconds, stop.wall_seconds);
   EXPECT_EQ(r.counters.events % kEventsPerClockCheck, 0);
   EXPECT_LE(late.late, kEventsPerClockCheck);
+}
+
+// Asks the run to stop, as SIGTERM does, once it has handled `after` events.
+class SignalAfterEvents final : public RunObserver<2> {
+ public:
+  explicit SignalAfterEvents(std::int64_t after) : after_(after) {}
+  void after_event(const State<2>&, const EventRecord&, const EngineCounters&) override {
+    if (++events == after_) request_stop_by_signal(SIGTERM);
+  }
+  std::int64_t events = 0;
+
+ private:
+  std::int64_t after_;
+};
+
+// ed-naive searches N^2 / 2 pairs for every event: were the clock and the signal flag read
+// only every kEventsPerClockCheck events, a run of 10^5 spheres would leave SIGTERM and
+// stop.wall_seconds unanswered for hours. From kGuardedSearchSpheres on the search asks the
+// guard itself, so such a run stops within the event under way. 600 discs: 1.8e5 pairs.
+TEST(EventDrivenNaive, ALargeRunAnswersASignalWithinTheEventUnderWay) {
+  Config c = testing::small_config(2, 600, 0.05, Boundary::periodic, 3);
+  State<2> s = make_initial_state<2>(c);
+  SignalAfterEvents signal(3);
+  const RunResult r = run_engine(s, "ed-naive", {CollisionOutcome::bounce, 1.0, 0.0}, {}, &signal);
+  clear_stop_signal();
+  EXPECT_EQ(r.reason, StopReason::interrupted);
+  EXPECT_EQ(signal.events, 3);
+  EXPECT_EQ(r.counters.events, 3);
+}
+
+TEST(EventDrivenNaive, ALargeRunStopsAtTheWallClockLimitWithinTheEventUnderWay) {
+  Config c = testing::small_config(2, 600, 0.05, Boundary::periodic, 3);
+  State<2> s = make_initial_state<2>(c);
+  StopCriteria stop;
+  stop.wall_seconds = 0.05;
+  EventsPastAWallClockLimit late(stop.wall_seconds);
+  const RunResult r = run_engine(s, "ed-naive", {CollisionOutcome::bounce, 1.0, 0.0}, stop, &late);
+  EXPECT_EQ(r.reason, StopReason::wall_seconds);
+  EXPECT_GE(r.wall_seconds, stop.wall_seconds);
+  EXPECT_LE(late.late, 1);
 }
 
 TEST_P(EventDriven, DetectsThatNoCollisionIsPossible) {

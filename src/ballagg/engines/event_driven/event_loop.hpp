@@ -53,6 +53,15 @@ inline constexpr std::int64_t kEventsPerClockCheck = 256;
 inline constexpr std::int64_t kMaxEventsAtInstantPerSphere = 1000;
 inline constexpr std::int64_t kMaxEventsAtInstantFloor = 1'000'000;
 
+// A core whose search for the next event is long (ed-naive: O(N^2)) may take the guard,
+// next_event(RunGuard&), and return nothing once it says stop; the loop then stops as
+// between two events.
+template <class Core>
+std::optional<Event> next_event_of(Core& core, RunGuard& guard) {
+  if constexpr (requires { core.next_event(guard); }) return core.next_event(guard);
+  else return core.next_event();
+}
+
 // `Core` may also supply stop_reason() (criteria of its own), for checkpoints loop() (an
 // EventLoopState) and save(): its whole state as bytes, taken between two events, and
 // put_back(event): files the event next_event() returned again, unhandled (a core that
@@ -98,7 +107,8 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
       if (collisions_impossible(s)) { result.reason = StopReason::no_collision_possible; break; }
       last_collision_event = count.events;
     }
-    const std::optional<Event> next = core.next_event();
+    const std::optional<Event> next = next_event_of(core, guard);
+    if (guard.stopped()) continue;  // the search was cut short: the checks above end the run
     // The time the observers are told of next: the event's, or the end of the run.
     const double until = !next ? stop.time : std::min(next->time, stop.time);
     if (until < kNever) {
