@@ -156,7 +156,11 @@ void run_all(const std::vector<const SweepRun*>& mine, const std::vector<SweepPo
         ++counts.ran;
         progress.done(r, points[r.point], seconds());
       } catch (const RunInterrupted&) {
-        // Stopped under way: it leaves nothing and runs again when the sweep is resumed.
+        // Stopped under way: it runs again when the sweep is resumed. Its files are gone
+        // already; the directory made for it goes too, so that runs/ holds finished runs
+        // only (remove() leaves a directory that is not empty).
+        std::error_code ec;
+        fs::remove(dir, ec);
       } catch (const std::exception& e) {
         ++counts.failed;
         progress.failed(dir.string(), e.what(), seconds());
