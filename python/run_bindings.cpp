@@ -1,13 +1,13 @@
 // ballagg.load(path): a finished run directory, as `ballagg analyze` and `render` read it:
 // its configuration, summary, time series, final state and trajectory frames.
 #include <filesystem>
-#include <sstream>
 
 #include "analysis_convert.hpp"
 #include "bindings.hpp"
 
 #include "ballagg/config/text_file.hpp"
 #include "ballagg/initial/initial_state.hpp"
+#include "ballagg/io/csv_reader.hpp"
 #include "ballagg/io/h5md_reader.hpp"
 #include "ballagg/run/analyze_kinetics.hpp"
 #include "ballagg/run/run_directory.hpp"
@@ -15,22 +15,17 @@
 namespace ballagg::python {
 namespace {
 
-// A numeric CSV table (timeseries.csv, kinetics_collapse.csv) as columns of numpy arrays.
-py::dict csv_columns(const std::string& text) {
-  std::istringstream in(text);
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> names;
-  for (std::istringstream s(line); std::getline(s, line, ',');) names.push_back(line);
-  std::vector<std::vector<double>> columns(names.size());
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    std::size_t k = 0;
-    for (std::istringstream s(line); std::getline(s, line, ',') && k < names.size(); ++k)
-      columns[k].push_back(std::strtod(line.c_str(), nullptr));
-  }
+// A numeric CSV table (timeseries.csv, kinetics_collapse.csv) as columns of numpy arrays,
+// read by the strict reader every CSV file goes through: a field that is not a number, or a
+// row of another width, raises InputError naming the file, the line and the column, instead
+// of entering the arrays as 0 or shifting the columns.
+py::dict csv_columns(const std::string& text, const std::string& source) {
+  CsvReader csv(text, source, "");
+  std::vector<std::vector<double>> columns(csv.columns().size());
+  for (CsvRow row; csv.next(row);)
+    for (std::size_t k = 0; k < columns.size(); ++k) columns[k].push_back(csv.number(row, static_cast<int>(k)));
   py::dict d;
-  for (std::size_t k = 0; k < names.size(); ++k) d[py::str(names[k])] = from_vector(columns[k]);
+  for (std::size_t k = 0; k < columns.size(); ++k) d[py::str(csv.columns()[k])] = from_vector(columns[k]);
   return d;
 }
 
@@ -76,7 +71,7 @@ py::object kinetics_of(const LoadedRun& r, std::optional<std::pair<double, doubl
   py::object fits = json_loads(files.at("kinetics.json"));
   if (!tables) return fits;
   py::dict t;
-  if (auto it = files.find("kinetics_collapse.csv"); it != files.end()) t["kinetics_collapse"] = csv_columns(it->second);
+  if (auto it = files.find("kinetics_collapse.csv"); it != files.end()) t["kinetics_collapse"] = csv_columns(it->second, r.run.path("kinetics_collapse.csv"));
   return py::make_tuple(fits, t);
 }
 
@@ -106,8 +101,10 @@ void bind_run_directory(py::module_& m) {
     r.run = open_run_directory(py::str(path).cast<std::string>());
     r.summary = json_loads(read_text_file(r.run.path("summary.json"), "run summary", kMaxSettingsFileBytes));
     std::error_code ec;
-    r.timeseries = std::filesystem::exists(r.run.path("timeseries.csv"), ec) ? py::object(csv_columns(read_text_file(r.run.path("timeseries.csv"), "time series", kMaxStateFileBytes)))
-                                                                             : py::object(py::dict());
+    const std::string timeseries = r.run.path("timeseries.csv");
+    r.timeseries = std::filesystem::exists(timeseries, ec)
+                       ? py::object(csv_columns(read_text_file(timeseries, "time series", kMaxStateFileBytes), timeseries))
+                       : py::object(py::dict());
     if (r.run.config.system.dimension == 2) load_state<2>(r);
     else load_state<3>(r);
     return r;

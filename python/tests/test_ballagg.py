@@ -198,6 +198,25 @@ def test_load_refuses_a_directory_that_is_not_a_run(tmp_path):
         ballagg.load(tmp_path)
 
 
+@pytest.mark.parametrize("corrupt, message", [
+    (lambda fields: ["abc"] + fields[1:], "timeseries.csv:3: column time: 'abc' is not a number"),
+    (lambda fields: fields[:1] + [""] + fields[2:], "timeseries.csv:3: column clusters: '' is not a number"),
+    (lambda fields: fields[:-1], "timeseries.csv:3: "),
+], ids=["letters", "empty", "short-row"])
+def test_load_refuses_a_time_series_with_a_field_that_is_not_a_number(tmp_path, corrupt, message):
+    # The strict CSV reader of the command line: a bad field is an error naming the file
+    # line and the column, never a 0 in the arrays or a shifted column.
+    out = ballagg.run(small(), out=str(tmp_path / "run"))
+    path = os.path.join(out, "timeseries.csv")
+    with open(path) as f:
+        lines = f.read().splitlines()
+    lines[2] = ",".join(corrupt(lines[2].split(",")))
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    with pytest.raises(ballagg.InputError, match=message):
+        ballagg.load(out)
+
+
 # ---- analysis functions ------------------------------------------------------------------
 
 def test_gyration_of_a_rectangle_of_points():

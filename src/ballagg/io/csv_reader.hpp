@@ -1,9 +1,9 @@
 #pragma once
 // The one reader of the CSV files ballagg reads: state files (initial.file, final.csv), the
-// analysis tables a sweep gathers, the time series verify checks. Strict, because a field
-// that silently reads as 0 is a wrong result that nobody sees: every row must have the
-// header's number of fields, every number must be a number, and an error names the file,
-// the line and the column.
+// analysis tables a sweep gathers, the time series that verify and ballagg.load (Python)
+// read. Strict, because a field that silently reads as 0 is a wrong result that nobody
+// sees: every row must have the header's number of fields, every number must be a number,
+// and an error names the file, the line and the column.
 //
 // The format: fields separated by commas, spaces and tabs around a field ignored, blank
 // lines and lines starting with # skipped, the first other line the header. No quoting:
