@@ -81,6 +81,7 @@ class BucketQueue {
   static constexpr std::int32_t kOverflow = -3;
   static constexpr std::int32_t kFront = -4;
   static constexpr double kKeysPerBucket = 2.0;
+  static constexpr std::size_t kFrontCapacityKept = 1024;  // keys; a larger front heap is freed at a rebuild
 
   struct Key {
     double time = 0.0;
@@ -177,27 +178,36 @@ class BucketQueue {
     place(i, k);
   }
 
-  // Starts a new year at the earliest key, with the width fitted to the keys' times.
+  // Starts a new year at the earliest key, with the width fitted to the keys' times. The
+  // scratch lists are local and the front heap gives back a large capacity: a pile of
+  // simultaneous keys at the start must not keep its memory for the whole run.
   void rebuild() {
-    held_.assign(front_.begin(), front_.end());
+    std::vector<std::int32_t> held(front_.begin(), front_.end());
     for (std::int32_t h : head_)
-      for (std::int32_t k = h; k != kNone; k = key_[k].next) held_.push_back(k);
-    for (std::int32_t k = overflow_; k != kNone; k = key_[k].next) held_.push_back(k);
-    times_.clear();
-    for (std::int32_t k : held_) times_.push_back(key_[k].time);
-    const auto half = times_.begin() + static_cast<std::ptrdiff_t>(times_.size() / 2);
-    std::nth_element(times_.begin(), half, times_.end());
-    origin_ = *std::min_element(times_.begin(), half + 1);
-    const double half_count = std::max(1.0, static_cast<double>(times_.size() / 2));
-    width_ = kKeysPerBucket * (*half - origin_) / half_count;
-    if (!(width_ > 0.0) || !std::isfinite(width_)) width_ = 1.0;
+      for (std::int32_t k = h; k != kNone; k = key_[k].next) held.push_back(k);
+    for (std::int32_t k = overflow_; k != kNone; k = key_[k].next) held.push_back(k);
+    fit_year(held);
     std::size_t n = 16;
-    while (n < held_.size()) n *= 2;
+    while (n < held.size()) n *= 2;
     head_.assign(n, kNone);
     front_.clear();
+    if (front_.capacity() > kFrontCapacityKept) std::vector<std::int32_t>().swap(front_);
     overflow_ = kNone;
     current_ = 0;
-    for (std::int32_t k : held_) attach(k);
+    for (std::int32_t k : held) attach(k);
+  }
+  // origin at the earliest time; width such that the earlier half of the keys falls about
+  // kKeysPerBucket to a bucket.
+  void fit_year(const std::vector<std::int32_t>& held) {
+    std::vector<double> times;
+    times.reserve(held.size());
+    for (std::int32_t k : held) times.push_back(key_[k].time);
+    const auto half = times.begin() + static_cast<std::ptrdiff_t>(times.size() / 2);
+    std::nth_element(times.begin(), half, times.end());
+    origin_ = *std::min_element(times.begin(), half + 1);
+    const double half_count = std::max(1.0, static_cast<double>(times.size() / 2));
+    width_ = kKeysPerBucket * (*half - origin_) / half_count;
+    if (!(width_ > 0.0) || !std::isfinite(width_)) width_ = 1.0;
   }
 
   Earlier earlier_;
@@ -208,8 +218,6 @@ class BucketQueue {
   std::int32_t current_ = 0;         // buckets before it are empty; its keys are in front_
   double origin_ = 0.0, width_ = 1.0;
   std::size_t size_ = 0;
-  std::vector<std::int32_t> held_;   // scratch for rebuild()
-  std::vector<double> times_;
 };
 
 }  // namespace ballagg
