@@ -78,12 +78,15 @@ class PooledLists {
   // Replaces owner o's values by [first, first + n). The block is kept if it fits n and is
   // at most kSlack times the smallest block that does, so that a list whose length wavers
   // does not move at every change; otherwise the values move to a block of the least class.
-  void assign(int o, const T* first, std::size_t n) {
+  // The values are converted to T one by one (T(first[i])).
+  template <class It>
+  void assign(int o, It first, std::size_t n) {
     Slot& s = slot_[o];
     const std::uint32_t least = class_for(n);
     s.count = 0;
     if (capacity_of(s.cls) < n || s.cls > least + kSlackClasses) move_to_class(s, least);
-    if (n != 0) std::memcpy(static_cast<void*>(block(s)), first, n * sizeof(T));
+    T* values = block(s);
+    for (std::size_t i = 0; i < n; ++i) values[i] = T(first[i]);
     s.count = static_cast<std::uint32_t>(n);
   }
 

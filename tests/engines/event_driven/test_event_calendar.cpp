@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 #include <vector>
 
 #include "ballagg/core/random.hpp"
@@ -141,6 +142,43 @@ TEST(EventCalendar, ForgottenClustersGiveNoEvents) {
   calendar.refile(0, {});
   EXPECT_TRUE(calendar.empty());
   EXPECT_EQ(calendar.size(), 0u);
+}
+
+// The stored 32-byte form gives back the event it was made from, and orders events exactly
+// as `later` does, kinds, ids and the largest stamps included.
+TEST(EventCalendar, FiledEventsKeepTheEventAndItsOrder) {
+  Random rng(9, RandomPurpose::positions);
+  const std::uint64_t largest = FiledEvent::kStampLimit - 1;
+  std::vector<Event> events;
+  for (int k = 0; k < 300; ++k) {
+    const auto kind = static_cast<EventKind>(static_cast<int>(rng.uniform(0.0, 5.0)));
+    const auto stamp = k % 7 == 0 ? largest : static_cast<std::uint64_t>(rng.uniform(0.0, 1e18));
+    events.push_back({std::floor(rng.uniform(0.0, 3.0)), static_cast<std::int32_t>(rng.uniform(0.0, 3.0)),
+                      static_cast<std::int32_t>(rng.uniform(-8.0, 3.0)), stamp, ~std::uint64_t{0} - k, kind});
+  }
+  for (const Event& x : events) {
+    EXPECT_TRUE(same(FiledEvent(x).event(), x));
+    for (const Event& y : events) ASSERT_EQ(filed_later(FiledEvent(x), FiledEvent(y)), later(x, y));
+  }
+}
+
+TEST(EventCalendar, RefusesAStampBeyondItsBits) {
+  EventCalendar calendar;
+  calendar.reset(1);
+  const Event beyond{1.0, 0, 1, FiledEvent::kStampLimit, 0, EventKind::collision};
+  EXPECT_THROW(calendar.file(0, {beyond}), std::length_error);
+  EXPECT_THROW(calendar.refile(0, {beyond}), std::length_error);
+
+  ByteWriter w;  // a saved calendar of one cluster holding that event
+  w.put<std::uint32_t>(1);
+  w.put(beyond.time);
+  w.put(beyond.a);
+  w.put(beyond.b);
+  w.put(beyond.stamp_a);
+  w.put(beyond.stamp_b);
+  w.put(beyond.kind);
+  ByteReader r(w.bytes(), "calendar");
+  EXPECT_THROW(calendar.restore(r, [](const Event&) {}), CheckpointError);
 }
 
 }  // namespace

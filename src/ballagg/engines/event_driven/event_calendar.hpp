@@ -16,6 +16,8 @@
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <stdexcept>
+#include <type_traits>
 #include <vector>
 
 #include "ballagg/core/byte_stream.hpp"
@@ -43,6 +45,42 @@ inline bool later(const Event& x, const Event& y) {
   return x.b > y.b;
 }
 
+// An event as the calendar stores it: 32 bytes, where an Event takes 40 (its kind byte pads
+// it to a multiple of 8). The kind goes into the top bits of stamp_a's word: stamps count
+// up from 1 (State::new_stamp), so they never reach those bits (2^61 renewals would take a
+// run renewing a billion stamps a second 73 years); a larger one is refused, never cut.
+struct FiledEvent {
+  static constexpr int kKindShift = 61;
+  static constexpr std::uint64_t kStampLimit = std::uint64_t{1} << kKindShift;
+
+  FiledEvent() = default;
+  explicit FiledEvent(const Event& e)
+      : time(e.time), a(e.a), b(e.b),
+        kind_and_stamp_a(static_cast<std::uint64_t>(e.kind) << kKindShift | e.stamp_a), stamp_b(e.stamp_b) {
+    if (e.stamp_a >= kStampLimit) throw std::length_error("event calendar: a cluster stamp beyond 2^61");
+  }
+  Event event() const { return {time, a, b, kind_and_stamp_a & (kStampLimit - 1), stamp_b, kind()}; }
+  EventKind kind() const { return static_cast<EventKind>(kind_and_stamp_a >> kKindShift); }
+
+  double time;
+  std::int32_t a;
+  std::int32_t b;
+  std::uint64_t kind_and_stamp_a;
+  std::uint64_t stamp_b;
+};
+static_assert(sizeof(FiledEvent) == 32 && std::is_trivially_copyable_v<FiledEvent>);
+static_assert(static_cast<int>(EventKind::contact_search) < 8, "the kind takes the top 3 bits of a stamp word");
+
+// The same order as later(Event, Event): the kind sits above the stamp's bits.
+inline bool filed_later(const FiledEvent& x, const FiledEvent& y) {
+  if (x.time != y.time) return x.time > y.time;
+  const std::uint64_t kx = x.kind_and_stamp_a >> FiledEvent::kKindShift;
+  const std::uint64_t ky = y.kind_and_stamp_a >> FiledEvent::kKindShift;
+  if (kx != ky) return kx > ky;
+  if (x.a != y.a) return x.a > y.a;
+  return x.b > y.b;
+}
+
 class EventCalendar {
  public:
   EventCalendar() = default;
@@ -60,15 +98,15 @@ class EventCalendar {
     stored_ -= filed_.size(c);
     filed_.assign(c, events.data(), events.size());
     stored_ += events.size();
-    std::make_heap(filed_.begin(c), filed_.end(c), later);
+    std::make_heap(filed_.begin(c), filed_.end(c), filed_later);
     reposition(c);
   }
 
   // Adds events to those filed under cluster c (its stamp has not changed).
   void file(int c, const std::vector<Event>& events) {
     for (const Event& e : events) {
-      filed_.push_back(c, e);
-      std::push_heap(filed_.begin(c), filed_.end(c), later);
+      filed_.push_back(c, FiledEvent(e));
+      std::push_heap(filed_.begin(c), filed_.end(c), filed_later);
     }
     stored_ += events.size();
     reposition(c);
@@ -102,8 +140,8 @@ class EventCalendar {
   Event pop() {
     const int c = order_.top();
     last_popped_from_ = c;
-    std::pop_heap(filed_.begin(c), filed_.end(c), later);
-    const Event e = filed_.end(c)[-1];
+    std::pop_heap(filed_.begin(c), filed_.end(c), filed_later);
+    const Event e = filed_.end(c)[-1].event();
     filed_.pop_back(c);
     --stored_;
     reposition(c);
@@ -115,8 +153,8 @@ class EventCalendar {
   // total). Nothing may have been filed or dropped since.
   void put_back(const Event& e) {
     const int c = last_popped_from_;
-    filed_.push_back(c, e);
-    std::push_heap(filed_.begin(c), filed_.end(c), later);
+    filed_.push_back(c, FiledEvent(e));
+    std::push_heap(filed_.begin(c), filed_.end(c), filed_later);
     ++stored_;
     reposition(c);
   }
@@ -128,13 +166,14 @@ class EventCalendar {
   void save(ByteWriter& w) const {
     for (int c = 0; c < filed_.owners(); ++c) {
       w.put<std::uint32_t>(filed_.size(c));
-      for (const Event* e = filed_.begin(c); e != filed_.end(c); ++e) {  // field by field: the struct's padding is not data
-        w.put(e->time);
-        w.put(e->a);
-        w.put(e->b);
-        w.put(e->stamp_a);
-        w.put(e->stamp_b);
-        w.put(e->kind);
+      for (const FiledEvent* filed = filed_.begin(c); filed != filed_.end(c); ++filed) {
+        const Event e = filed->event();  // field by field, as an Event: the format keeps its layout
+        w.put(e.time);
+        w.put(e.a);
+        w.put(e.b);
+        w.put(e.stamp_a);
+        w.put(e.stamp_b);
+        w.put(e.kind);
       }
     }
   }
@@ -153,22 +192,23 @@ class EventCalendar {
         e.stamp_b = r.get<std::uint64_t>("event stamp");
         e.kind = r.get<EventKind>("event kind");
         if (!std::isfinite(e.time)) r.fail("event at a time that is not finite");
+        if (e.stamp_a >= FiledEvent::kStampLimit) r.fail("event stamp beyond 2^61");
         check(e);
-        filed_.push_back(c, e);
+        filed_.push_back(c, FiledEvent(e));
       }
-      if (!std::is_heap(filed_.begin(c), filed_.end(c), later)) r.fail("a cluster's events out of order");
+      if (!std::is_heap(filed_.begin(c), filed_.end(c), filed_later)) r.fail("a cluster's events out of order");
       stored_ += n;
       reposition(c);
     }
   }
 
  private:
-  using Filed = PooledLists<Event>;
+  using Filed = PooledLists<FiledEvent>;
 
   // Orders clusters whose earliest events are simultaneous by those events.
   struct FrontOrder {
     const Filed* filed;
-    bool operator()(int x, int y) const { return later(filed->front(y), filed->front(x)); }
+    bool operator()(int x, int y) const { return filed_later(filed->front(y), filed->front(x)); }
   };
 
   // Refiles cluster c in the queue of clusters after its earliest event changed (or vanished).
@@ -177,9 +217,9 @@ class EventCalendar {
     else order_.update(c, filed_.front(c).time);
   }
 
-  // Per cluster: a binary heap (earliest on top) in a pool of blocks (pooled_lists.hpp). A
-  // cluster costs an 8-byte handle and its events: dead clusters cost no events, and a
-  // monomer with one or two events uses a block of one or two.
+  // Per cluster: a binary heap (earliest on top) of 32-byte events in a pool of blocks
+  // (pooled_lists.hpp). A cluster costs an 8-byte handle and its events: dead clusters cost
+  // no events, and a monomer with one or two events uses a block of one or two.
   Filed filed_;
   BucketQueue<FrontOrder> order_{FrontOrder{&filed_}};  // clusters with events
   std::size_t stored_ = 0;
