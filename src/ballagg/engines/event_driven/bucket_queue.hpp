@@ -47,7 +47,7 @@ class BucketQueue {
 
   bool empty() const { return size_ == 0; }
   std::size_t size() const { return size_; }
-  bool contains(int k) const { return key_[k].bucket != kAbsent; }
+  bool contains(int k) const { return key_[k].next != kAbsent; }
 
   // Files key k at `time` (moving it if it was filed already). `time` must be finite: a
   // NaN has no bucket and a queue of keys at +infinity has no earliest bucket, so either
@@ -55,8 +55,8 @@ class BucketQueue {
   // that computes another time is broken, and says so here rather than hanging.
   void update(int k, double time) {
     if (!std::isfinite(time)) throw std::logic_error("event calendar: an event at a time that is not finite");
-    // Within a bucket list order does not matter: an unchanged time needs no move.
-    if (key_[k].bucket >= 0 && key_[k].time == time) return;
+    // Within a list order does not matter: an unchanged time needs no move.
+    if (in_list(k) && key_[k].time == time) return;
     if (contains(k)) detach(k); else ++size_;
     key_[k].time = time;
     attach(k);
@@ -65,7 +65,7 @@ class BucketQueue {
   void remove(int k) {
     if (!contains(k)) return;
     detach(k);
-    key_[k].bucket = kAbsent;
+    key_[k].next = kAbsent;
     --size_;
   }
 
@@ -81,13 +81,16 @@ class BucketQueue {
   static constexpr std::int32_t kOverflow = -3;
   static constexpr std::int32_t kFront = -4;
   static constexpr double kKeysPerBucket = 2.0;
+  static constexpr std::size_t kFrontCapacityKept = 1024;  // keys; a larger front heap is freed at a rebuild
 
+  // 16 bytes: where a key is filed is told by `next` (kAbsent, kFront, or a list's next key
+  // or kNone), and which list holds it by its time (list_head), as attach() chose it.
   struct Key {
     double time = 0.0;
-    std::int32_t bucket = kAbsent;   // bucket index, kFront, kOverflow or kAbsent
-    std::int32_t next = kNone;       // in a bucket list
-    std::int32_t prev = kNone;       // in a bucket list; in the front heap: its index
+    std::int32_t next = kAbsent;     // in a list: the next key or kNone; else kFront or kAbsent
+    std::int32_t prev = kNone;       // in a list: the previous key or kNone; in the front heap: its index
   };
+  static_assert(sizeof(Key) == 16);
 
   bool before(std::int32_t a, std::int32_t b) const {
     const double ta = key_[a].time, tb = key_[b].time;
@@ -97,29 +100,37 @@ class BucketQueue {
   // Keys due no later than the current bucket (including events predicted at the present
   // instant whose time rounds below it) join the front heap.
   void attach(std::int32_t k) {
-    const double rel = (key_[k].time - origin_) / width_;
-    if (!(rel < static_cast<double>(head_.size()))) return link(k, kOverflow);
-    const auto bucket = static_cast<std::int32_t>(std::max(rel, 0.0));
+    const std::int32_t bucket = bucket_of(key_[k].time);
+    if (bucket == kOverflow) return link(k, overflow_);
     if (bucket <= current_) return push_front(k);
-    link(k, bucket);
+    link(k, head_[bucket]);
   }
   void detach(std::int32_t k) {
-    if (key_[k].bucket == kFront) erase_front(k); else unlink(k);
+    if (key_[k].next == kFront) erase_front(k); else unlink(k);
   }
+  bool in_list(std::int32_t k) const { return key_[k].next >= kNone; }
 
-  std::int32_t& head(std::int32_t bucket) { return bucket == kOverflow ? overflow_ : head_[bucket]; }
-  void link(std::int32_t k, std::int32_t bucket) {
+  // The bucket of `time` in this year, or kOverflow beyond it: a function of the time and
+  // the year only, so a listed key's list is found again from its time.
+  std::int32_t bucket_of(double time) const {
+    const double rel = (time - origin_) / width_;
+    if (!(rel < static_cast<double>(head_.size()))) return kOverflow;
+    return static_cast<std::int32_t>(std::max(rel, 0.0));
+  }
+  std::int32_t& list_head(std::int32_t k) {
+    const std::int32_t bucket = bucket_of(key_[k].time);
+    return bucket == kOverflow ? overflow_ : head_[bucket];
+  }
+  void link(std::int32_t k, std::int32_t& head) {
     Key& e = key_[k];
-    std::int32_t& h = head(bucket);
-    e.bucket = bucket;
     e.prev = kNone;
-    e.next = h;
-    if (h != kNone) key_[h].prev = k;
-    h = k;
+    e.next = head;
+    if (head != kNone) key_[head].prev = k;
+    head = k;
   }
   void unlink(std::int32_t k) {
     const Key& e = key_[k];
-    if (e.prev != kNone) key_[e.prev].next = e.next; else head(e.bucket) = e.next;
+    if (e.prev != kNone) key_[e.prev].next = e.next; else list_head(k) = e.next;
     if (e.next != kNone) key_[e.next].prev = e.prev;
   }
 
@@ -141,7 +152,7 @@ class BucketQueue {
     key_[k].prev = static_cast<std::int32_t>(i);
   }
   void push_front(std::int32_t k) {
-    key_[k].bucket = kFront;
+    key_[k].next = kFront;
     front_.push_back(k);
     sift_up(front_.size() - 1);
   }
@@ -177,27 +188,36 @@ class BucketQueue {
     place(i, k);
   }
 
-  // Starts a new year at the earliest key, with the width fitted to the keys' times.
+  // Starts a new year at the earliest key, with the width fitted to the keys' times. The
+  // scratch lists are local and the front heap gives back a large capacity: a pile of
+  // simultaneous keys at the start must not keep its memory for the whole run.
   void rebuild() {
-    held_.assign(front_.begin(), front_.end());
+    std::vector<std::int32_t> held(front_.begin(), front_.end());
     for (std::int32_t h : head_)
-      for (std::int32_t k = h; k != kNone; k = key_[k].next) held_.push_back(k);
-    for (std::int32_t k = overflow_; k != kNone; k = key_[k].next) held_.push_back(k);
-    times_.clear();
-    for (std::int32_t k : held_) times_.push_back(key_[k].time);
-    const auto half = times_.begin() + static_cast<std::ptrdiff_t>(times_.size() / 2);
-    std::nth_element(times_.begin(), half, times_.end());
-    origin_ = *std::min_element(times_.begin(), half + 1);
-    const double half_count = std::max(1.0, static_cast<double>(times_.size() / 2));
-    width_ = kKeysPerBucket * (*half - origin_) / half_count;
-    if (!(width_ > 0.0) || !std::isfinite(width_)) width_ = 1.0;
+      for (std::int32_t k = h; k != kNone; k = key_[k].next) held.push_back(k);
+    for (std::int32_t k = overflow_; k != kNone; k = key_[k].next) held.push_back(k);
+    fit_year(held);
     std::size_t n = 16;
-    while (n < held_.size()) n *= 2;
+    while (n < held.size()) n *= 2;
     head_.assign(n, kNone);
     front_.clear();
+    if (front_.capacity() > kFrontCapacityKept) std::vector<std::int32_t>().swap(front_);
     overflow_ = kNone;
     current_ = 0;
-    for (std::int32_t k : held_) attach(k);
+    for (std::int32_t k : held) attach(k);
+  }
+  // origin at the earliest time; width such that the earlier half of the keys falls about
+  // kKeysPerBucket to a bucket.
+  void fit_year(const std::vector<std::int32_t>& held) {
+    std::vector<double> times;
+    times.reserve(held.size());
+    for (std::int32_t k : held) times.push_back(key_[k].time);
+    const auto half = times.begin() + static_cast<std::ptrdiff_t>(times.size() / 2);
+    std::nth_element(times.begin(), half, times.end());
+    origin_ = *std::min_element(times.begin(), half + 1);
+    const double half_count = std::max(1.0, static_cast<double>(times.size() / 2));
+    width_ = kKeysPerBucket * (*half - origin_) / half_count;
+    if (!(width_ > 0.0) || !std::isfinite(width_)) width_ = 1.0;
   }
 
   Earlier earlier_;
@@ -208,8 +228,6 @@ class BucketQueue {
   std::int32_t current_ = 0;         // buckets before it are empty; its keys are in front_
   double origin_ = 0.0, width_ = 1.0;
   std::size_t size_ = 0;
-  std::vector<std::int32_t> held_;   // scratch for rebuild()
-  std::vector<double> times_;
 };
 
 }  // namespace ballagg
