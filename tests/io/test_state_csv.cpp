@@ -496,6 +496,32 @@ TEST(StateCsv, RoundTripOfAHandBuiltStraddlingCluster) {
   expect_round_trip(s);
 }
 
+// Assembling from a table that is given away (its positions become the offsets in place)
+// gives the state that assembling from a copy gives, bit for bit: glued clusters whose
+// first sphere lies beyond L/2 (its own body position moves by a period, the others' are
+// taken relative to where it was) and single spheres on both sides of L/2.
+TEST(StateCsv, AssemblingFromAGivenTableEqualsAssemblingFromACopy) {
+  const SphereTable<2> t = ballagg::parse_state_csv<2>(
+      "x,y,vx,vy,radius,mass,cluster\n"
+      "9.7,5,0.1,0.3,0.3,1,4\n0.3,5,0.1,0.3,0.3,1,4\n0.3,5.6,0.1,0.3,0.3,1,4\n"
+      "7.5,8.5,-1,0,0.4,2,9\n2.5,1.5,0.5,0.5,0.3,1,11\n6,9.7,0,1,0.3,1,12\n6,0.3,0,1,0.3,1,12\n",
+      "in.csv");
+  for (const Boundary boundary : {Boundary::periodic, Boundary::walls}) {
+    const Box<2> box{10.0, boundary};
+    const State<2> copied = ballagg::assemble_state<2>(box, t);
+    SphereTable<2> given = t;
+    const State<2> consumed = ballagg::assemble_state<2>(box, std::move(given));
+    EXPECT_EQ(consumed.spheres.offset, copied.spheres.offset);
+    EXPECT_EQ(consumed.spheres.cluster, copied.spheres.cluster);
+    EXPECT_EQ(ballagg::state_csv_text(consumed), ballagg::state_csv_text(copied));
+    EXPECT_EQ(consumed.n_clusters(), 4);
+    if (boundary == Boundary::walls) continue;
+    // The glued pair across y = 0 = L sits next to its first sphere, beyond L/2.
+    EXPECT_NEAR((consumed.spheres.offset[6] - consumed.spheres.offset[5])[1], 0.6, 1e-12);
+    EXPECT_NEAR((consumed.spheres.offset[1] - consumed.spheres.offset[0])[0], 0.6, 1e-12);
+  }
+}
+
 TEST(StateCsv, WrittenTextHasHeaderAndClusterIdsInOrderOfFirstSphere) {
   using ballagg::testing::Ball;
   const State<2> s = ballagg::testing::make_state<2>(

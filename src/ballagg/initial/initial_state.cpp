@@ -5,13 +5,15 @@
 #include <cmath>
 #include <deque>
 #include <limits>
-#include <map>
 #include <numbers>
+#include <optional>
+#include <span>
 
 #include <fmt/format.h>
 
 #include "ballagg/core/random.hpp"
 #include "ballagg/core/tolerances.hpp"
+#include "ballagg/initial/cluster_groups.hpp"
 #include "ballagg/initial/lattice_sites.hpp"
 #include "ballagg/initial/polydisperse_start.hpp"
 #include "ballagg/initial/space_filling_curve.hpp"
@@ -134,12 +136,13 @@ std::vector<Vec<D>> random_velocities(const Config& c, std::int64_t n) {
 // cluster may straddle the box, so it is unwrapped along chains of near spheres (closer
 // than twice their contact distance), where the minimum image is the true separation.
 template <int D>
-std::vector<Vec<D>> unwrapped_offsets(const Box<D>& box, const SphereTable<D>& t, const std::vector<int>& label,
-                                      const std::vector<std::vector<int>>& members, CellGrid<D>& grid) {
+std::vector<Vec<D>> unwrapped_offsets(const Box<D>& box, const SphereTable<D>& t, const ClusterGroups& groups,
+                                      const CellGrid<D>& grid) {
   const int n = static_cast<int>(t.radius.size());
   std::vector<Vec<D>> offset(n, Vec<D>::Zero());
   std::vector<char> placed(n, 0);
-  for (const std::vector<int>& group : members) {
+  for (int c = 0; c < groups.size(); ++c) {
+    const std::span<const std::int32_t> group = groups.members(c);
     const int root = group.front();
     placed[root] = 1;
     std::deque<int> queue{root};
@@ -147,7 +150,7 @@ std::vector<Vec<D>> unwrapped_offsets(const Box<D>& box, const SphereTable<D>& t
       const int s = queue.front();
       queue.pop_front();
       grid.for_each_near(t.position[s], [&](int j, const Vec<D>&) {
-        if (placed[j] || label[j] != label[s]) return;
+        if (placed[j] || groups.label(j) != groups.label(s)) return;
         const Vec<D> d = box.separation(t.position[j], t.position[s]);
         if (d.norm() >= 2.0 * (t.radius[s] + t.radius[j]) || d.norm() >= 0.5 * box.length) return;
         offset[j] = offset[s] + d;
@@ -161,31 +164,34 @@ std::vector<Vec<D>> unwrapped_offsets(const Box<D>& box, const SphereTable<D>& t
   return offset;
 }
 
-// Body-frame positions with every cluster's reference point at the origin: each sphere
-// where the file puts it, except that spheres of a cluster straddling a periodic face are
-// moved by whole box lengths to sit next to their neighbours. Keeping the file's numbers
-// wherever possible makes a state written by ballagg read back bit for bit.
+// Turns the table's positions into body-frame positions with every cluster's reference
+// point at the origin: each sphere where the file puts it, except that spheres of a
+// cluster straddling a periodic face are moved by whole box lengths to sit next to their
+// neighbours. Keeping the file's numbers wherever possible makes a state written by
+// ballagg read back bit for bit. `offset` is empty when every sphere is a cluster of its
+// own (all offsets zero).
 template <int D>
-std::vector<Vec<D>> body_positions(const Box<D>& box, const SphereTable<D>& t,
-                                   const std::vector<std::vector<int>>& members, const std::vector<Vec<D>>& offset) {
-  if (!box.periodic()) return t.position;
+void to_body_positions(const Box<D>& box, std::vector<Vec<D>>& position, const ClusterGroups& groups,
+                       const std::vector<Vec<D>>& offset) {
+  if (!box.periodic()) return;
   const double l = box.length;
-  std::vector<Vec<D>> body(t.position.size());
-  for (const std::vector<int>& group : members) {
-    const int root = group.front();
+  const auto offset_of = [&](int j, int a) { return offset.empty() ? 0.0 : offset[j][a]; };
+  for (int c = 0; c < groups.size(); ++c) {
+    const std::span<const std::int32_t> group = groups.members(c);
     for (int a = 0; a < D; ++a) {
+      // Read before the loop below moves the root itself.
+      const double root = position[group.front()][a];
       // Whole periods that bring the cluster's lowest coordinate into [-L/2, L/2).
       double lowest = std::numeric_limits<double>::infinity();
-      for (int j : group) lowest = std::min(lowest, t.position[root][a] + offset[j][a]);
+      for (int j : group) lowest = std::min(lowest, root + offset_of(j, a));
       const double shift = -l * std::floor(lowest / l + 0.5);
       for (int j : group) {
-        const double unwrapped = t.position[root][a] + offset[j][a] + shift;
-        const double periods = std::nearbyint((unwrapped - t.position[j][a]) / l);
-        body[j][a] = periods == 0.0 ? t.position[j][a] : t.position[j][a] + periods * l;
+        const double unwrapped = root + offset_of(j, a) + shift;
+        const double periods = std::nearbyint((unwrapped - position[j][a]) / l);
+        if (periods != 0.0) position[j][a] += periods * l;
       }
     }
   }
-  return body;
 }
 
 // The rigid-body engine follows every body's centre of mass on its unwrapped trajectory,
@@ -247,55 +253,30 @@ void refuse_overlaps(const Box<D>& box, const SphereTable<D>& t, const CellGrid<
   }
 }
 
-// The clusters of the table: one per distinct label, numbered in order of first appearance
-// (every sphere its own cluster when the table has no cluster column).
-struct ClusterLabels {
-  std::vector<int> label;                 // per sphere
-  std::vector<std::vector<int>> members;  // per cluster, in table order
-};
-
-template <int D>
-ClusterLabels cluster_labels(const SphereTable<D>& t) {
-  const int n = static_cast<int>(t.radius.size());
-  ClusterLabels c;
-  c.label.resize(n);
-  if (t.cluster.empty()) {
-    for (int i = 0; i < n; ++i) { c.label[i] = i; c.members.push_back({i}); }
-    return c;
-  }
-  std::map<std::int64_t, int> id;
-  for (int i = 0; i < n; ++i) {
-    auto [it, fresh] = id.emplace(t.cluster[i], static_cast<int>(c.members.size()));
-    if (fresh) c.members.emplace_back();
-    c.label[i] = it->second;
-    c.members[it->second].push_back(i);
-  }
-  return c;
-}
-
 // Each cluster's members and velocity. Glued spheres written by ballagg share one velocity
 // exactly: it is kept bit for bit. Others (equal within kGluedVelocity of the fastest
 // sphere's speed) move with their mass-weighted mean.
 template <int D>
-void set_cluster_motions(State<D>& s, const SphereTable<D>& t, const std::vector<std::vector<int>>& members) {
+void set_cluster_motions(State<D>& s, const SphereTable<D>& t, const ClusterGroups& groups) {
   double max_speed = 0.0;
   for (const Vec<D>& v : t.velocity) max_speed = std::max(max_speed, v.norm());
-  s.clusters.resize(members.size());
-  for (std::size_t c = 0; c < members.size(); ++c) {
+  s.clusters.resize(groups.size());
+  for (int c = 0; c < groups.size(); ++c) {
     Cluster<D>& k = s.clusters[c];
-    const int root = members[c].front();
-    k.members.assign(members[c].begin(), members[c].end());
+    const std::span<const std::int32_t> members = groups.members(c);
+    const int root = members.front();
+    k.members.assign(members.begin(), members.end());
     k.anchor = Vec<D>::Zero();
     Vec<D> momentum = Vec<D>::Zero();
     double mass = 0.0;
     bool identical = true;
-    for (int i : members[c]) {
+    for (int i : members) {
       momentum += t.mass[i] * t.velocity[i];
       mass += t.mass[i];
       identical = identical && t.velocity[i] == t.velocity[root];
     }
     k.velocity = identical ? t.velocity[root] : Vec<D>(momentum / mass);
-    for (int i : members[c]) {
+    for (int i : members) {
       if ((t.velocity[i] - t.velocity[root]).norm() > tolerance::kGluedVelocity * max_speed) {
         throw InputError(fmt::format("{}: velocity {} differs from {} of the first sphere of its cluster ({}); "
                                      "spheres glued into one cluster must move together",
@@ -307,15 +288,16 @@ void set_cluster_motions(State<D>& s, const SphereTable<D>& t, const std::vector
 
 // Spin columns: each cluster spins as its first sphere says; the others must agree.
 template <int D>
-void set_cluster_spins(State<D>& s, const SphereTable<D>& t, const std::vector<std::vector<int>>& members) {
+void set_cluster_spins(State<D>& s, const SphereTable<D>& t, const ClusterGroups& groups) {
   if (t.spin.empty()) return;
   double max_spin = 0.0;
   for (const Spin<D>& w : t.spin) max_spin = std::max(max_spin, w.norm());
-  s.spin.resize(members.size());
-  for (std::size_t c = 0; c < members.size(); ++c) {
-    const int root = members[c].front();
+  s.spin.resize(groups.size());
+  for (int c = 0; c < groups.size(); ++c) {
+    const std::span<const std::int32_t> members = groups.members(c);
+    const int root = members.front();
     s.spin[c].angular_velocity = t.spin[root];
-    for (int i : members[c])
+    for (int i : members)
       if ((t.spin[i] - t.spin[root]).norm() > tolerance::kGluedVelocity * max_spin)
         throw InputError(fmt::format("{}: spin {} differs from {} of the first sphere of its cluster ({}); "
                                      "spheres glued into one cluster must spin together",
@@ -323,30 +305,56 @@ void set_cluster_spins(State<D>& s, const SphereTable<D>& t, const std::vector<s
   }
 }
 
-}  // namespace
+// Which generated starts cannot overlap: a lattice whose spacing exceeds the largest
+// diameter (lattice_positions and lattice_start refuse any other) has no overlapping pair,
+// periodic images included, as the box holds a whole number of spacings per side.
+enum class OverlapCheck { done, not_needed };
 
+// The state from the spheres of t, which it consumes: their positions become the body
+// frame offsets, their radii and masses the state's.
 template <int D>
-State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table_in) {
-  SphereTable<D> t = table_in;
+State<D> assemble_consuming(const Box<D>& box, SphereTable<D>& t, OverlapCheck overlaps) {
   const int n = static_cast<int>(t.radius.size());
   const double max_radius = t.radius.empty() ? 0.0 : *std::max_element(t.radius.begin(), t.radius.end());
   put_spheres_in_box(box, t, max_radius);
-  CellGrid<D> grid(box, 2.0 * max_radius, n);
-  for (int i = 0; i < n; ++i) grid.insert(i, t.position[i]);
-  refuse_overlaps(box, t, grid);
+  const bool glued = !t.cluster.empty();
+  std::optional<CellGrid<D>> grid;
+  if (overlaps == OverlapCheck::done || glued) {
+    grid.emplace(box, 2.0 * max_radius, n);
+    for (int i = 0; i < n; ++i) grid->insert(i, t.position[i]);
+  }
+  if (overlaps == OverlapCheck::done) refuse_overlaps(box, t, *grid);
 
-  const ClusterLabels clusters = cluster_labels(t);
-  const std::vector<Vec<D>> offset = unwrapped_offsets(box, t, clusters.label, clusters.members, grid);
+  ClusterGroups groups(t.cluster, n);
+  std::vector<Vec<D>> offset;
+  if (glued) offset = unwrapped_offsets(box, t, groups, *grid);
+  grid.reset();
+  to_body_positions(box, t.position, groups, offset);
+  offset = {};
   State<D> s;
   s.box = box;
-  s.spheres.offset = body_positions(box, t, clusters.members, offset);
-  s.spheres.radius = t.radius;
-  s.spheres.mass = t.mass;
-  s.spheres.cluster.assign(clusters.label.begin(), clusters.label.end());
-  set_cluster_motions(s, t, clusters.members);
-  set_cluster_spins(s, t, clusters.members);
+  set_cluster_motions(s, t, groups);
+  set_cluster_spins(s, t, groups);
+  t.velocity = {};
+  s.spheres.offset = std::move(t.position);
+  s.spheres.radius = std::move(t.radius);
+  s.spheres.mass = std::move(t.mass);
+  s.spheres.cluster = std::move(groups).take_labels();
   s.finalize();
   return s;
+}
+
+}  // namespace
+
+template <int D>
+State<D> assemble_state(const Box<D>& box, SphereTable<D>&& table) {
+  return assemble_consuming(box, table, OverlapCheck::done);
+}
+
+template <int D>
+State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table) {
+  SphereTable<D> copy = table;
+  return assemble_consuming(box, copy, OverlapCheck::done);
 }
 
 namespace {
@@ -414,8 +422,12 @@ template <int D>
 State<D> make_initial_state(const Config& c) {
   if (c.initial.positions == InitialPositions::file) return state_from_spheres<D>(c, read_state_csv<D>(c.initial.file));
   const Box<D> box{resolved_box_length(c), c.system.boundary};
-  const SphereTable<D> table = generated_spheres<D>(c, box);
-  return finish_initial_state(c, assemble_state(box, table), table);
+  SphereTable<D> table = generated_spheres<D>(c, box);
+  const OverlapCheck overlaps =
+      c.initial.positions == InitialPositions::lattice ? OverlapCheck::not_needed : OverlapCheck::done;
+  // The table keeps what finish_initial_state reads (spins, file lines) once consumed.
+  State<D> s = assemble_consuming(box, table, overlaps);
+  return finish_initial_state(c, std::move(s), table);
 }
 
 template <int D>
@@ -433,5 +445,7 @@ template State<3> state_from_spheres<3>(const Config&, const SphereTable<3>&);
 template State<3> make_initial_state<3>(const Config&);
 template State<2> assemble_state<2>(const Box<2>&, const SphereTable<2>&);
 template State<3> assemble_state<3>(const Box<3>&, const SphereTable<3>&);
+template State<2> assemble_state<2>(const Box<2>&, SphereTable<2>&&);
+template State<3> assemble_state<3>(const Box<3>&, SphereTable<3>&&);
 
 }  // namespace ballagg

@@ -21,8 +21,12 @@ State<D> state_from_spheres(const Config& config, const SphereTable<D>& table);
 
 // Builds a state from explicit spheres (positions are folded into a periodic box; spheres
 // with equal table.cluster values are glued into rigid clusters). Checks that spheres fit
-// in the box, do not overlap, and that glued spheres share a velocity.
+// in the box, do not overlap, and that glued spheres share a velocity. The second form
+// consumes the table: its positions, radii and masses move into the state (its velocities
+// are released), which saves a copy of them.
 template <int D>
 State<D> assemble_state(const Box<D>& box, const SphereTable<D>& table);
+template <int D>
+State<D> assemble_state(const Box<D>& box, SphereTable<D>&& table);
 
 }  // namespace ballagg
