@@ -183,13 +183,13 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   return j.dump(2) + "\n";
 }
 
-// What a checkpoint of this run holds, made when the checkpointer asks (the state and
-// the recorders as they are then).
+// What a checkpoint of this run holds besides the state and the engine's state (which the
+// checkpointer streams into the file), made when it asks (the recorders as they are then).
 template <int D>
 auto checkpoint_maker(const Config& config, std::string_view engine, double earlier_seconds, const Totals<D>& initial,
                       const TimeseriesRecorder<D>& timeseries, SnapshotRecorder<D>* snapshots) {
   return [config_toml = to_toml_text(config), engine_name = std::string(engine), earlier_seconds, &initial, &timeseries,
-          snapshots](const State<D>& s, const std::string& engine_state, double seconds) {
+          snapshots](double seconds) {
     Checkpoint c;
     c.program_version = kVersion;
     c.dimension = D;
@@ -197,8 +197,6 @@ auto checkpoint_maker(const Config& config, std::string_view engine, double earl
     c.config_toml = config_toml;
     c.wall_seconds = earlier_seconds + seconds;
     c.totals = initial.encode();
-    c.state = StateCodec<D>::encode(s);
-    c.engine_state = engine_state;
     c.timeseries = timeseries.save();
     if (snapshots) c.snapshots = snapshots->save();
     return c;

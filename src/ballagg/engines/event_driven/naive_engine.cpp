@@ -30,11 +30,9 @@ class NaiveCore {
 
   EventDrivenCounters& counters() { return count_; }
   EventLoopState& loop() { return loop_; }
-  std::string save() const {
-    ByteWriter w;
+  void save(ByteWriter& w) const {
     count_.save(w);
     w.put(loop_);
-    return w.take();
   }
 
   std::optional<Event> next_event() {
