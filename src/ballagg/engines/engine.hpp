@@ -82,6 +82,8 @@ class RunObserver {
   // at points between two events (or steps) where everything it carries from one to the
   // next can be saved; when it returns true, the engine hands that saved state to
   // on_checkpoint_stream (which may end the run by throwing). Keep checkpoint_due cheap.
+  // An observer that combines others hands the checkpoint only to those that ask for it
+  // (ObserverList), so that none gathers bytes it does not use.
   virtual bool checkpoint_due() { return false; }
   // save(w) puts the engine's state into w. An observer that writes a checkpoint file
   // streams it there: at a few hundred bytes per sphere it is never held whole. The
