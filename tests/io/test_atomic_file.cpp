@@ -10,10 +10,14 @@
 #include <csignal>
 #include <cstring>
 #include <filesystem>
+#include <stdexcept>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
+#include <zlib.h>
 
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/io/atomic_file.hpp"
 #include "ballagg/io/checkpoint_file.hpp"
 #include "ballagg/io/output_dir.hpp"
@@ -153,6 +157,122 @@ TEST(AtomicFile, CheckpointBeyondAFileSizeLimitKeepsThePreviousOne) {
   EXPECT_EQ(message, (dir / kCheckpointFile).string() + ": cannot write: " + std::strerror(EFBIG));
   EXPECT_EQ(read_checkpoint_file(dir.path().string()).state, "previous");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1);
+}
+
+// ---- Streamed checkpoints and output files ----
+
+// The checkpoint format assembled by hand (checkpoint_file.hpp): magic, format version,
+// byte order, payload size, the payload (fields, then the sections each after its
+// length), CRC-32 of the payload.
+std::string checkpoint_bytes_by_hand(const Checkpoint& c) {
+  ByteWriter payload;
+  payload.put_string(c.program_version);
+  payload.put<std::int32_t>(c.dimension);
+  payload.put_string(c.engine);
+  payload.put_string(c.config_toml);
+  payload.put(c.wall_seconds);
+  for (const std::string* s : {&c.totals, &c.state, &c.engine_state, &c.timeseries, &c.snapshots}) payload.put_string(*s);
+  ByteWriter header;
+  header.put(kCheckpointFormat);
+  header.put(std::uint32_t{0x01020304});
+  header.put<std::uint64_t>(payload.bytes().size());
+  const auto crc = static_cast<std::uint32_t>(crc32_z(0L, reinterpret_cast<const Bytef*>(payload.bytes().data()),
+                                                      static_cast<z_size_t>(payload.bytes().size())));
+  std::string bytes = std::string("BALLAGG CHECKPT\n") + header.bytes() + payload.bytes();
+  bytes.append(reinterpret_cast<const char*>(&crc), sizeof crc);
+  return bytes;
+}
+
+// Sections of a few MB put in many small values and one long array: the writer's buffer
+// is handed on several times, once past its length in one piece.
+void put_state_section(ByteWriter& w) {
+  for (std::int64_t k = 0; k < 200'000; ++k) w.put(static_cast<double>(k) / 3.0);
+}
+void put_engine_section(ByteWriter& w) {
+  w.put(std::int32_t{42});
+  w.put_vector(std::vector<std::int64_t>(kByteWriterBufferBytes / 8 + 5, 7));
+  for (std::int32_t k = 0; k < 100'000; ++k) w.put(k);
+}
+
+Checkpoint checkpoint_around_streamed_sections() {
+  Checkpoint c;
+  c.program_version = "test";
+  c.engine = "ed";
+  c.config_toml = "[system]\nn = 10\n";
+  c.wall_seconds = 2.25;
+  c.totals = "totals";
+  c.timeseries = std::string(1000, 't');
+  c.snapshots = "snapshots";
+  return c;
+}
+
+TEST(AtomicFile, StreamedCheckpointHasTheBytesOfTheFormat) {
+  const TempDir dir;
+  const Checkpoint head = checkpoint_around_streamed_sections();
+  write_checkpoint_file(dir.path().string(), head, put_state_section, put_engine_section);
+  Checkpoint whole = head;
+  ByteWriter state, engine;
+  put_state_section(state);
+  put_engine_section(engine);
+  whole.state = state.bytes();
+  whole.engine_state = engine.bytes();
+  const std::string expected = checkpoint_bytes_by_hand(whole);
+  EXPECT_EQ(encode_checkpoint(whole), expected);
+  EXPECT_EQ(slurp((dir / kCheckpointFile).string()), expected);
+  const Checkpoint back = read_checkpoint_file(dir.path().string());
+  EXPECT_EQ(back.engine_state, whole.engine_state);
+  EXPECT_EQ(back.timeseries, whole.timeseries);
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1);
+}
+
+TEST(AtomicFile, StreamedCheckpointThatFailsKeepsThePreviousOne) {
+  // A write beyond a file-size limit, and a section whose owner throws while putting it:
+  // each leaves the previous checkpoint and no temporary file.
+  const TempDir dir;
+  Checkpoint previous;
+  previous.engine = "ed";
+  previous.state = "previous";
+  write_checkpoint_file(dir.path().string(), previous);
+  const Checkpoint head = checkpoint_around_streamed_sections();
+  const std::string message = output_error_of([&] {
+    const FileSizeLimit limit(1 << 20);
+    write_checkpoint_file(dir.path().string(), head, put_state_section, put_engine_section);
+  });
+  EXPECT_EQ(message, (dir / kCheckpointFile).string() + ": cannot write: " + std::strerror(EFBIG));
+  auto throwing = [](ByteWriter& w) {
+    put_engine_section(w);
+    throw std::runtime_error("engine failed");
+  };
+  EXPECT_THROW(write_checkpoint_file(dir.path().string(), head, put_state_section, throwing), std::runtime_error);
+  EXPECT_EQ(read_checkpoint_file(dir.path().string()).state, "previous");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1);
+}
+
+TEST(AtomicFile, StreamedOutputFileHoldsWhatWasHandedOn) {
+  const TempDir dir;
+  const std::string line = "0.1,0.2,0.3\n";
+  write_file_atomically(dir.path().string(), "final.csv", [&](ByteSink& out) {
+    for (int k = 0; k < 3; ++k) out.write(line);
+  });
+  EXPECT_EQ(slurp((dir / "final.csv").string()), line + line + line);
+}
+
+TEST(AtomicFile, StreamedOutputFileThatFailsLeavesNothing) {
+  const TempDir dir;
+  const std::string message = output_error_of([&] {
+    const FileSizeLimit limit(4096);
+    write_file_atomically(dir.path().string(), "final.csv", [](ByteSink& out) {
+      for (int k = 0; k < 100; ++k) out.write(std::string(1000, 'x'));
+    });
+  });
+  EXPECT_EQ(message, (dir / "final.csv").string() + ": cannot write: " + std::strerror(EFBIG));
+  EXPECT_THROW(write_file_atomically(dir.path().string(), "final.csv",
+                                     [](ByteSink& out) {
+                                       out.write("half");
+                                       throw std::runtime_error("cut");
+                                     }),
+               std::runtime_error);
+  EXPECT_TRUE(fs::is_empty(dir.path()));
 }
 
 // ---- Output paths that are not regular files (docs/outputs.md, "Output files") ----

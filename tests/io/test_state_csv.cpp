@@ -12,6 +12,7 @@
 
 #include "ballagg/config/config.hpp"
 #include "ballagg/initial/initial_state.hpp"
+#include "ballagg/io/chunked_text.hpp"
 #include "ballagg/io/state_csv.hpp"
 #include "support.hpp"
 
@@ -533,4 +534,26 @@ TEST(StateCsv, WrittenTextHasHeaderAndClusterIdsInOrderOfFirstSphere) {
             "5,5,0,0,0.5,1,0\n"
             "1,1,0.5,0,0.5,1,1\n"
             "6,5,0,0,0.5,1,0\n");
+}
+
+// final.csv is written as it is formatted: in chunks of whole lines of about
+// kTextChunkBytes, which together are the text.
+TEST(StateCsv, StreamedInChunksOfWholeLines) {
+  class Chunks final : public ballagg::ByteSink {
+   public:
+    void write(std::string_view bytes) override { list.emplace_back(bytes); }
+    std::vector<std::string> list;
+  };
+  const State<2> s =
+      ballagg::make_initial_state<2>(ballagg::testing::small_config(2, 3000, 0.2, Boundary::walls, 11));
+  Chunks chunks;
+  ballagg::write_state_csv(s, chunks);
+  ASSERT_GE(chunks.list.size(), 3u);
+  std::string joined;
+  for (const std::string& c : chunks.list) {
+    EXPECT_EQ(c.back(), '\n');
+    EXPECT_LT(c.size(), ballagg::kTextChunkBytes + 256);  // a chunk and at most one line
+    joined += c;
+  }
+  EXPECT_EQ(joined, ballagg::state_csv_text(s));
 }

@@ -36,28 +36,71 @@ class CheckpointError : public InputError {
   using InputError::InputError;
 };
 
+// Where a streaming ByteWriter hands its bytes (a checkpoint file): in pieces, in order.
+class ByteSink {
+ public:
+  virtual ~ByteSink() = default;
+  virtual void write(std::string_view bytes) = 0;
+};
+
+// Collects the bytes in a string (bytes(), take()), or, given a sink, passes them on
+// through a buffer of at most kByteWriterBufferBytes (plus one value), so that a section
+// of hundreds of MB (an engine's state at 10^6 spheres) is never held whole; flush()
+// hands on what the buffer still holds and must be called at the end.
+inline constexpr std::size_t kByteWriterBufferBytes = std::size_t{1} << 20;
+
 class ByteWriter {
  public:
+  ByteWriter() = default;
+  explicit ByteWriter(ByteSink& sink) : sink_(&sink) { bytes_.reserve(kByteWriterBufferBytes); }
+  ByteWriter(const ByteWriter&) = delete;
+  ByteWriter& operator=(const ByteWriter&) = delete;
+
   template <class T>
   void put(const T& value) {
     static_assert(kStoredAsBytes<T>);
-    bytes_.append(reinterpret_cast<const char*>(&value), sizeof(T));
+    append(reinterpret_cast<const char*>(&value), sizeof(T));
   }
   template <class T>
   void put_array(const T* data, std::size_t n) {
     static_assert(kStoredAsBytes<T>);
     put<std::uint64_t>(n);
-    bytes_.append(reinterpret_cast<const char*>(data), n * sizeof(T));
+    append(reinterpret_cast<const char*>(data), n * sizeof(T));
   }
   template <class T>
   void put_vector(const std::vector<T>& v) { put_array(v.data(), v.size()); }
   void put_string(std::string_view s) { put_array(s.data(), s.size()); }
 
+  // Bytes put so far (handed on or not).
+  std::uint64_t size() const { return handed_on_ + bytes_.size(); }
+  // Hands the buffered bytes to the sink (nothing without one).
+  void flush() {
+    if (sink_ == nullptr || bytes_.empty()) return;
+    sink_->write(bytes_);
+    handed_on_ += bytes_.size();
+    bytes_.clear();
+  }
+
+  // Without a sink only.
   const std::string& bytes() const { return bytes_; }
   std::string take() { return std::move(bytes_); }
 
  private:
+  void append(const char* data, std::size_t n) {
+    if (sink_ != nullptr && bytes_.size() + n > kByteWriterBufferBytes) {
+      flush();
+      if (n > kByteWriterBufferBytes) {  // a long array goes to the sink as it is
+        sink_->write({data, n});
+        handed_on_ += n;
+        return;
+      }
+    }
+    bytes_.append(data, n);
+  }
+
   std::string bytes_;
+  ByteSink* sink_ = nullptr;
+  std::uint64_t handed_on_ = 0;
 };
 
 class ByteReader {

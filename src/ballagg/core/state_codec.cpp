@@ -62,6 +62,12 @@ void check_numbers(const State<D>& s, const ByteReader& r) {
 template <int D>
 std::string StateCodec<D>::encode(const State<D>& s) {
   ByteWriter w;
+  encode(s, w);
+  return w.take();
+}
+
+template <int D>
+void StateCodec<D>::encode(const State<D>& s, ByteWriter& w) {
   w.put(s.box.length);
   w.put(static_cast<std::int32_t>(s.box.boundary));
   w.put(s.time);
@@ -92,7 +98,6 @@ std::string StateCodec<D>::encode(const State<D>& s) {
   w.put(s.running_energy_);
   w.put(s.running_momentum_);
   w.put(s.resync_below_);
-  return w.take();
 }
 
 template <int D>

@@ -7,6 +7,7 @@
 #include <string>
 #include <string_view>
 
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/state.hpp"
 
 namespace ballagg {
@@ -14,6 +15,8 @@ namespace ballagg {
 template <int D>
 struct StateCodec {
   static std::string encode(const State<D>& s);
+  // The same bytes put into w (a checkpoint file streamed, never holding them whole).
+  static void encode(const State<D>& s, ByteWriter& w);
   // Throws CheckpointError (naming what is wrong) for bytes that are not a saved state
   // of dimension D, including one whose indices are out of range.
   static State<D> decode(std::string_view bytes);

@@ -2,6 +2,7 @@
 // The small interface every engine implements: take a state, advance it until a stop
 // criterion holds, report what happened to an observer.
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -9,6 +10,7 @@
 #include <string_view>
 
 #include "ballagg/collision/collision_settings.hpp"
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/run_guard.hpp"
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/engine_counters.hpp"
@@ -79,8 +81,19 @@ class RunObserver {
   // Checkpoints (docs/checkpoints.md). An engine that supports them asks checkpoint_due()
   // at points between two events (or steps) where everything it carries from one to the
   // next can be saved; when it returns true, the engine hands that saved state to
-  // on_checkpoint (which may end the run by throwing). Keep checkpoint_due cheap.
+  // on_checkpoint_stream (which may end the run by throwing). Keep checkpoint_due cheap.
+  // An observer that combines others hands the checkpoint only to those that ask for it
+  // (ObserverList), so that none gathers bytes it does not use.
   virtual bool checkpoint_due() { return false; }
+  // save(w) puts the engine's state into w. An observer that writes a checkpoint file
+  // streams it there: at a few hundred bytes per sphere it is never held whole. The
+  // default gathers the bytes and hands them to on_checkpoint.
+  using EngineSave = std::function<void(ByteWriter&)>;
+  virtual void on_checkpoint_stream(const State<D>& s, const EngineCounters& c, const EngineSave& save) {
+    ByteWriter w;
+    save(w);
+    on_checkpoint(s, c, w.bytes());
+  }
   virtual void on_checkpoint(const State<D>&, const EngineCounters&, const std::string& /*engine_state*/) {}
 
   // Engines whose clusters only translate keep State::position exact at every time. The
@@ -103,7 +116,7 @@ class Engine {
 
   // The checkpoint contract (docs/checkpoints.md). An engine that supports checkpoints
   // (1) polls observer.checkpoint_due() during run() at points between events or steps and
-  // hands on_checkpoint bytes that hold everything it carries forward (counters included;
+  // hands on_checkpoint_stream bytes that hold everything it carries forward (counters included;
   // the State is saved by the caller), and (2) implements resume_from: given the State
   // restored from the same checkpoint and those bytes, it prepares itself so that the
   // next run(state, ...) on that same State object continues exactly as the saved run

@@ -15,8 +15,11 @@
 // misread. decode_checkpoint is a function from bytes to a checkpoint or one
 // CheckpointError, so that it can be fuzzed as it is.
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <string_view>
+
+#include "ballagg/core/byte_stream.hpp"
 
 namespace ballagg {
 
@@ -40,6 +43,10 @@ struct Checkpoint {
   std::string snapshots;        // empty without a trajectory
 };
 
+// A section put by its owner straight into the file being written (the State, the
+// engine's state: a few hundred bytes per sphere each, never held whole in memory).
+using SectionWriter = std::function<void(ByteWriter&)>;
+
 // The file's bytes (write_checkpoint_file writes the same without assembling them).
 std::string encode_checkpoint(const Checkpoint& c);
 // `source` names the bytes in messages (the file's path). Throws CheckpointError.
@@ -51,5 +58,10 @@ Checkpoint read_checkpoint_file(const std::string& dir);
 // (fsync), renamed over the previous checkpoint. A crash at any moment leaves either
 // the previous checkpoint or the new one. Throws OutputError.
 void write_checkpoint_file(const std::string& dir, const Checkpoint& checkpoint);
+// The same file with the state and engine_state sections put by `state` and
+// `engine_state` instead of taken from `checkpoint` (whose two are not read): the same
+// bytes as when they hold what the writers put, streamed through a bounded buffer.
+void write_checkpoint_file(const std::string& dir, const Checkpoint& checkpoint, const SectionWriter& state,
+                           const SectionWriter& engine_state);
 
 }  // namespace ballagg

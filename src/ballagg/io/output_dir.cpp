@@ -135,4 +135,26 @@ void write_file_atomically(const std::string& dir, const std::string& name, cons
   file.commit();
 }
 
+namespace {
+
+class FileSink final : public ByteSink {
+ public:
+  explicit FileSink(AtomicFile& file) : file_(file) {}
+  void write(std::string_view bytes) override { file_.write(bytes); }
+
+ private:
+  AtomicFile& file_;
+};
+
+}  // namespace
+
+void write_file_atomically(const std::string& dir, const std::string& name,
+                           const std::function<void(ByteSink&)>& produce) {
+  const CriticalWrite not_to_be_cut;  // a forced quit waits for the rename
+  AtomicFile file((fs::path(dir) / name).string());
+  FileSink sink(file);
+  produce(sink);
+  file.commit();
+}
+
 }  // namespace ballagg

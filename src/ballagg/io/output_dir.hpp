@@ -2,7 +2,10 @@
 // The run directory. Files are written to a temporary name and renamed into place, so a
 // reader (or a crash) never sees a half-written file.
 #include <cstdint>
+#include <functional>
 #include <string>
+
+#include "ballagg/core/byte_stream.hpp"
 
 namespace ballagg {
 
@@ -52,5 +55,9 @@ std::uint64_t checked_temporary_size(const std::string& path, std::uint64_t byte
 
 // Writes `content` to dir/name atomically (AtomicFile). Throws OutputError on failure.
 void write_file_atomically(const std::string& dir, const std::string& name, const std::string& content);
+// The same with the bytes `produce` hands its sink, written as they come (a file of any
+// length through a bounded buffer).
+void write_file_atomically(const std::string& dir, const std::string& name,
+                           const std::function<void(ByteSink&)>& produce);
 
 }  // namespace ballagg

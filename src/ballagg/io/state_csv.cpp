@@ -8,6 +8,7 @@
 
 #include "ballagg/config/text_file.hpp"
 #include "ballagg/core/input_error.hpp"
+#include "ballagg/io/chunked_text.hpp"
 #include "ballagg/io/csv_reader.hpp"
 
 namespace ballagg {
@@ -109,28 +110,37 @@ SphereTable<D> read_state_csv(const std::string& path) {
 }
 
 template <int D>
-std::string state_csv_text(const State<D>& s) {
+void write_state_csv(const State<D>& s, ByteSink& sink) {
   std::vector<int> label(s.clusters.size(), -1);
   int next_label = 0;
-  fmt::memory_buffer out;
+  ChunkedText out(sink);
   const bool spinning = !s.spin.empty();
-  fmt::format_to(std::back_inserter(out), "{},cluster{}{}\n", fmt::join(column_names<D>(), ","), spinning ? "," : "",
+  fmt::format_to(out.out(), "{},cluster{}{}\n", fmt::join(column_names<D>(), ","), spinning ? "," : "",
                  spinning ? fmt::format("{}", fmt::join(spin_names<D>(), ",")) : std::string());
   for (int i = 0; i < s.n_spheres(); ++i) {
     const Vec<D> x = s.position(i, s.time);
     const Vec<D>& v = s.velocity(i);
-    for (int a = 0; a < D; ++a) fmt::format_to(std::back_inserter(out), "{},", x[a]);
-    for (int a = 0; a < D; ++a) fmt::format_to(std::back_inserter(out), "{},", v[a]);
+    for (int a = 0; a < D; ++a) fmt::format_to(out.out(), "{},", x[a]);
+    for (int a = 0; a < D; ++a) fmt::format_to(out.out(), "{},", v[a]);
     int& l = label[s.spheres.cluster[i]];
     if (l < 0) l = next_label++;
-    fmt::format_to(std::back_inserter(out), "{},{},{}", s.spheres.radius[i], s.spheres.mass[i], l);
+    fmt::format_to(out.out(), "{},{},{}", s.spheres.radius[i], s.spheres.mass[i], l);
     if (spinning) {
       const Spin<D>& w = s.spin[s.spheres.cluster[i]].angular_velocity;
-      for (int a = 0; a < kSpinDim<D>; ++a) fmt::format_to(std::back_inserter(out), ",{}", w[a]);
+      for (int a = 0; a < kSpinDim<D>; ++a) fmt::format_to(out.out(), ",{}", w[a]);
     }
     out.push_back('\n');
+    out.end_line();
   }
-  return fmt::to_string(out);
+  out.flush();
+}
+
+template <int D>
+std::string state_csv_text(const State<D>& s) {
+  std::string text;
+  StringSink sink(text);
+  write_state_csv(s, sink);
+  return text;
 }
 
 template SphereTable<2> read_state_csv<2>(const std::string&);
@@ -139,5 +149,7 @@ template SphereTable<2> parse_state_csv<2>(const std::string&, const std::string
 template SphereTable<3> parse_state_csv<3>(const std::string&, const std::string&);
 template std::string state_csv_text<2>(const State<2>&);
 template std::string state_csv_text<3>(const State<3>&);
+template void write_state_csv<2>(const State<2>&, ByteSink&);
+template void write_state_csv<3>(const State<3>&, ByteSink&);
 
 }  // namespace ballagg

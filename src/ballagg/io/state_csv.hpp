@@ -8,6 +8,7 @@
 // has them.
 #include <string>
 
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/sphere_table.hpp"
 #include "ballagg/core/state.hpp"
 
@@ -24,5 +25,8 @@ SphereTable<D> parse_state_csv(const std::string& text, const std::string& sourc
 // the shortest form that reads back to the same double, so files round-trip exactly.
 template <int D>
 std::string state_csv_text(const State<D>& state);
+// The same text handed to `out` in chunks of about kTextChunkBytes (chunked_text.hpp).
+template <int D>
+void write_state_csv(const State<D>& state, ByteSink& out);
 
 }  // namespace ballagg

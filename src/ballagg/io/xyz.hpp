@@ -4,6 +4,7 @@
 // after the other.
 #include <string>
 
+#include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/state.hpp"
 #include "ballagg/io/frame.hpp"
 
@@ -15,5 +16,10 @@ void append_xyz_frame(std::string& out, const Frame<D>& frame, const Particles<D
 // The state at state.time as one frame (final.xyz).
 template <int D>
 std::string xyz_frame_text(const State<D>& state);
+// The same texts handed to `out` in chunks of about kTextChunkBytes (chunked_text.hpp).
+template <int D>
+void write_xyz_frame(const Frame<D>& frame, const Particles<D>& particles, ByteSink& out);
+template <int D>
+void write_xyz_frame(const State<D>& state, ByteSink& out);
 
 }  // namespace ballagg

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "ballagg/core/state_codec.hpp"
 #include "ballagg/io/checkpoint_file.hpp"
 #include "ballagg/io/temporary_files.hpp"
 
@@ -51,13 +52,14 @@ bool Checkpointer<D>::checkpoint_due() {
 }
 
 template <int D>
-void Checkpointer<D>::on_checkpoint(const State<D>& s, const EngineCounters&, const std::string& engine_state) {
+void Checkpointer<D>::on_checkpoint_stream(const State<D>& s, const EngineCounters&,
+                                           const typename RunObserver<D>::EngineSave& save) {
   {
     // The trajectories are flushed for the checkpoint, which refers to their temporary
     // files from its rename on (they are no longer registered as unreferenced from their
     // flush): a forced quit waits until then.
     const CriticalWrite whole_checkpoint;
-    write_checkpoint_file(dir_, compose_(s, engine_state, seconds()));
+    write_checkpoint_file(dir_, compose_(seconds()), [&](ByteWriter& w) { StateCodec<D>::encode(s, w); }, save);
   }
   ++written_;
   next_ = seconds() + every_;  // the interval runs from the end of a write

@@ -52,14 +52,16 @@ std::string signal_name(int signal);
 template <int D>
 class Checkpointer final : public RunObserver<D> {
  public:
-  // compose(state, engine_state, wall seconds of this segment) gathers the checkpoint.
-  using Compose = std::function<Checkpoint(const State<D>&, const std::string&, double)>;
+  // compose(wall seconds of this segment) gathers the checkpoint's small sections; the
+  // state and the engine's state are streamed into the file.
+  using Compose = std::function<Checkpoint(double)>;
   // every: wall seconds between checkpoints (0: at signals only); `signals`: whether to
   // act on a signal (InterruptFlag); guard: the run's (whether a step was cut short).
   Checkpointer(std::string dir, double every, bool signals, Compose compose, const RunGuard* guard = nullptr);
 
   bool checkpoint_due() override;
-  void on_checkpoint(const State<D>& s, const EngineCounters& c, const std::string& engine_state) override;
+  void on_checkpoint_stream(const State<D>& s, const EngineCounters& c,
+                            const typename RunObserver<D>::EngineSave& save) override;
 
   int written() const { return written_; }
 

@@ -25,8 +25,14 @@ class ObserverList final : public RunObserver<D> {
       if (o->checkpoint_due()) return true;
     return false;
   }
+  void on_checkpoint_stream(const State<D>& s, const EngineCounters& c,
+                            const typename RunObserver<D>::EngineSave& save) override {
+    for (auto* o : list_)
+      if (o->checkpoint_due()) o->on_checkpoint_stream(s, c, save);
+  }
   void on_checkpoint(const State<D>& s, const EngineCounters& c, const std::string& engine_state) override {
-    for (auto* o : list_) o->on_checkpoint(s, c, engine_state);
+    for (auto* o : list_)
+      if (o->checkpoint_due()) o->on_checkpoint(s, c, engine_state);
   }
   double next_position_read() const override {
     double t = std::numeric_limits<double>::infinity();

@@ -1,6 +1,9 @@
 #include "ballagg/run/simulation.hpp"
 
 #include <unistd.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -183,13 +186,13 @@ std::string summary_text(const Config& c, std::string_view engine, const Totals<
   return j.dump(2) + "\n";
 }
 
-// What a checkpoint of this run holds, made when the checkpointer asks (the state and
-// the recorders as they are then).
+// What a checkpoint of this run holds besides the state and the engine's state (which the
+// checkpointer streams into the file), made when it asks (the recorders as they are then).
 template <int D>
 auto checkpoint_maker(const Config& config, std::string_view engine, double earlier_seconds, const Totals<D>& initial,
                       const TimeseriesRecorder<D>& timeseries, SnapshotRecorder<D>* snapshots) {
   return [config_toml = to_toml_text(config), engine_name = std::string(engine), earlier_seconds, &initial, &timeseries,
-          snapshots](const State<D>& s, const std::string& engine_state, double seconds) {
+          snapshots](double seconds) {
     Checkpoint c;
     c.program_version = kVersion;
     c.dimension = D;
@@ -197,8 +200,6 @@ auto checkpoint_maker(const Config& config, std::string_view engine, double earl
     c.config_toml = config_toml;
     c.wall_seconds = earlier_seconds + seconds;
     c.totals = initial.encode();
-    c.state = StateCodec<D>::encode(s);
-    c.engine_state = engine_state;
     c.timeseries = timeseries.save();
     if (snapshots) c.snapshots = snapshots->save();
     return c;
@@ -237,16 +238,16 @@ void discard_new_run(std::optional<NewRunDirectory>& fresh, std::unique_ptr<Snap
 template <int D>
 void write_run_files(const std::string& dir, const Config& config, std::string_view engine, const Totals<D>& initial,
                      const State<D>& state, const RunResult& result, const std::string& timeseries_csv) {
-  const std::string final_csv = state_csv_text(state);
-  write_file_atomically(dir, "final.csv", final_csv);
-  if (config.output.xyz) write_file_atomically(dir, "final.xyz", xyz_frame_text(state));
+  // Streamed: the text of final.csv and final.xyz is about 100 bytes per sphere.
+  write_file_atomically(dir, "final.csv", [&](ByteSink& out) { write_state_csv(state, out); });
+  if (config.output.xyz) write_file_atomically(dir, "final.xyz", [&](ByteSink& out) { write_xyz_frame(state, out); });
   write_file_atomically(dir, "timeseries.csv", timeseries_csv);
   if (config.engine.kind == EngineKind::rigid_body) {
     // Richardson's end-of-run statistics: the files of `ballagg analyze`, from final.csv
-    // as that command reads it, so that both give the same bytes.
+    // read as that command reads it, so that both give the same bytes.
     const std::string final_path = (std::filesystem::path(dir) / "final.csv").string();
-    write_analysis(Box<D>{resolved_box_length(config), config.system.boundary},
-                   parse_state_csv<D>(final_csv, final_path), final_path, dir);
+    write_analysis(Box<D>{resolved_box_length(config), config.system.boundary}, read_state_csv<D>(final_path),
+                   final_path, dir);
   }
   write_file_atomically(dir, "config.toml", to_toml_text(config));
   write_file_atomically(dir, "summary.json", summary_text(config, engine, initial, state, result));
@@ -347,7 +348,16 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
   result.wall_seconds += earlier_seconds;
   if (result.reason == StopReason::output_limit && !options.quiet) report_output_limit<D>(state.time);
 
-  write_run_files(dir, config, engine->name(), initial, state, result, timeseries.csv());
+  const std::string engine_name(engine->name());
+  checkpointer.reset();
+  engine.reset();
+  // glibc keeps the heap the engine freed (hundreds of bytes per sphere, in blocks below
+  // its mmap threshold) resident in the process; giving it back to the system before the
+  // output files are written keeps that phase's peak memory to what it uses.
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+  write_run_files(dir, config, engine_name, initial, state, result, timeseries.csv());
   return dir;
 }
 

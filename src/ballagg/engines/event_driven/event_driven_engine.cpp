@@ -97,8 +97,7 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
   }
 
   // Everything the engine carries from one event to the next (the state aside).
-  std::string save() const {
-    ByteWriter w;
+  void save(ByteWriter& w) const {
     count_.save(w);
     w.put(loop_);
     w.put(keeper_.skin());
@@ -108,7 +107,6 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     lists_.save(w);
     calendar_.save(w);
     keeper_.save(w);
-    return w.take();
   }
 
   EventDrivenCounters& counters() { return count_; }

@@ -63,7 +63,7 @@ std::optional<Event> next_event_of(Core& core, RunGuard& guard) {
 }
 
 // `Core` may also supply stop_reason() (criteria of its own), for checkpoints loop() (an
-// EventLoopState) and save(): its whole state as bytes, taken between two events, and
+// EventLoopState) and save(ByteWriter&): puts its whole state, taken between two events, and
 // put_back(event): files the event next_event() returned again, unhandled (a core that
 // predicts from scratch, ed-naive, finds it again by itself).
 //
@@ -99,8 +99,8 @@ RunResult run_event_loop(Core& core, State<D>& s, const StopCriteria& stop, RunO
       guard.check();
       if (guard.cause() == StopCause::wall_seconds) { result.reason = StopReason::wall_seconds; break; }
       // A signal: the checkpointing observer writes one and ends the run by throwing.
-      if constexpr (requires { core.save(); })
-        if (observer.checkpoint_due()) observer.on_checkpoint(s, count, core.save());
+      if constexpr (requires(ByteWriter& w) { core.save(w); })
+        if (observer.checkpoint_due()) observer.on_checkpoint_stream(s, count, [&](ByteWriter& w) { core.save(w); });
       if (guard.stopped()) { result.reason = stop_reason_of(guard.cause()); break; }
     }
     if (count.events - last_collision_event > quiet_limit) {
@@ -164,7 +164,7 @@ RunResult run_core(Core& core, State<D>& s, const StopCriteria& stop, RunObserve
 
 // An engine made of a Core run by run_core (ed, ed-naive, rigid-body), with checkpoints: the
 // core is built from the state when run() starts, or restored by resume_from() from the
-// bytes its save() gave (Core(State&, const Settings&, std::string_view saved), which
+// bytes its save(ByteWriter&) put (Core(State&, const Settings&, std::string_view saved), which
 // throws CheckpointError for bytes that do not fit the state).
 template <int D, class Core>
 class EventLoopEngine final : public Engine<D> {

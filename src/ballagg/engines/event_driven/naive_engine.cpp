@@ -36,11 +36,9 @@ class NaiveCore {
 
   EventDrivenCounters& counters() { return count_; }
   EventLoopState& loop() { return loop_; }
-  std::string save() const {
-    ByteWriter w;
+  void save(ByteWriter& w) const {
     count_.save(w);
     w.put(loop_);
-    return w.take();
   }
 
   // Nothing when `guard` stops the run during the search (from kGuardedSearchSpheres on):

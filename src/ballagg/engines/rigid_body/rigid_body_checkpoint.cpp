@@ -64,9 +64,8 @@ RigidBodyCore<D>::RigidBodyCore(State<D>& state, const RigidBodySettings& settin
 }
 
 template <int D>
-std::string RigidBodyCore<D>::save() const {
+void RigidBodyCore<D>::save(ByteWriter& w) const {
   const int m = static_cast<int>(s_.clusters.size());
-  ByteWriter w;
   count_.save(w);
   w.put(loop_);
   w.put(keeper_.skin());
@@ -89,13 +88,12 @@ std::string RigidBodyCore<D>::save() const {
   w.put(free_mass_);
   w.put(total_mass_);
   w.put<std::uint8_t>(spans_box_);
-  return w.take();
 }
 
 
 template RigidBodyCore<2>::RigidBodyCore(State<2>&, const RigidBodySettings&, std::string_view);
 template RigidBodyCore<3>::RigidBodyCore(State<3>&, const RigidBodySettings&, std::string_view);
-template std::string RigidBodyCore<2>::save() const;
-template std::string RigidBodyCore<3>::save() const;
+template void RigidBodyCore<2>::save(ByteWriter&) const;
+template void RigidBodyCore<3>::save(ByteWriter&) const;
 
 }  // namespace ballagg

@@ -80,7 +80,7 @@ class RigidBodyCore : public CalendarDispatch<RigidBodyCore<D>> {
   // state's spins, which only this engine writes. The state itself is saved as it is: its
   // sphere offsets are those last written (write_state), and the run goes on from the
   // bodies saved here, so the resumed state stays, field by field, the uninterrupted one.
-  std::string save() const;
+  void save(ByteWriter& w) const;
 
   RunResult run(State<D>& state, const StopCriteria& stop, RunObserver<D>& observer);
 

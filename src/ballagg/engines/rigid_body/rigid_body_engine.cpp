@@ -67,6 +67,10 @@ class ObservedState final : public RunObserver<D> {
     inner_.on_finish(s, r);
   }
   bool checkpoint_due() override { return inner_.checkpoint_due(); }
+  void on_checkpoint_stream(const State<D>& s, const EngineCounters& c,
+                            const typename RunObserver<D>::EngineSave& save) override {
+    inner_.on_checkpoint_stream(s, c, save);
+  }
   void on_checkpoint(const State<D>& s, const EngineCounters& c, const std::string& engine_state) override {
     inner_.on_checkpoint(s, c, engine_state);
   }

@@ -43,7 +43,7 @@ RunResult TimeSteppingEngine<D>::run(State<D>& s, const StopCriteria& stop, RunO
     // A signal: the checkpointing observer writes one and ends the run by throwing.
     guard.check();
     if (guard.cause() != StopCause::wall_seconds && observer.checkpoint_due())
-      observer.on_checkpoint(s, counters_, save());
+      observer.on_checkpoint_stream(s, counters_, [&](ByteWriter& w) { save(w); });
     if (s.n_clusters() <= stop.clusters) { result.reason = StopReason::clusters; break; }
     if (guard.stopped()) { result.reason = stop_reason_of(guard.cause()); break; }
     if (s.time >= stop.time) { result.reason = StopReason::time; break; }
@@ -102,8 +102,7 @@ void TimeSteppingEngine<D>::prepare(const State<D>& s) {
 }
 
 template <int D>
-std::string TimeSteppingEngine<D>::save() const {
-  ByteWriter w;
+void TimeSteppingEngine<D>::save(ByteWriter& w) const {
   counters_.save(w, paper());
   rule_->save(w);
   w.put<std::int32_t>(static_cast<std::int32_t>(positions_.size()));
@@ -115,7 +114,6 @@ std::string TimeSteppingEngine<D>::save() const {
         w.put(e.lambda);
       }
     }
-  return w.take();
 }
 
 template <int D>
@@ -144,7 +142,7 @@ void TimeSteppingEngine<D>::resume_from(State<D>& s, std::string_view saved) {
 #define BALLAGG_TS_RUN(D)                                                                         \
   template RunResult TimeSteppingEngine<D>::run(State<D>&, const StopCriteria&, RunObserver<D>&); \
   template void TimeSteppingEngine<D>::resume_from(State<D>&, std::string_view);                  \
-  template std::string TimeSteppingEngine<D>::save() const;                                       \
+  template void TimeSteppingEngine<D>::save(ByteWriter&) const;                                       \
   template void TimeSteppingEngine<D>::prepare(const State<D>&);                                  \
   template bool TimeSteppingEngine<D>::outside_walls(const State<D>&) const;
 BALLAGG_TS_RUN(2)

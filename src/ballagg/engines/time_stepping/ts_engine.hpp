@@ -45,7 +45,7 @@ class TimeSteppingEngine final : public Engine<D> {
  private:
   // time_stepping_run.cpp. Checkpoints, taken between two steps: all a step leaves behind
   // is the counters, the step rule's reference values and the links of the per-sphere models.
-  std::string save() const;
+  void save(ByteWriter& w) const;
   void prepare(const State<D>& s);
   bool outside_walls(const State<D>& s) const;
 
