@@ -36,14 +36,13 @@ Run on an otherwise quiet machine. Only the Python standard library is used.
 """
 import argparse
 import json
-import math
 import os
-import platform
 import shutil
-import statistics
 import subprocess
 import sys
 import time
+
+import ed_scaling  # machine() and fit_exponent(): bench/ is the script's directory
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BINARY = os.path.join(ROOT, "build", "bin", "ballagg")
@@ -63,13 +62,7 @@ MEMORY_HEADROOM = 0.9
 
 
 def machine():
-    cpu = "unknown CPU"
-    try:
-        with open("/proc/cpuinfo") as f:
-            cpu = next(l.split(":", 1)[1].strip() for l in f if l.startswith("model name"))
-    except (OSError, StopIteration):
-        pass
-    return f"{cpu}, {os.cpu_count()} cores, {total_memory_bytes() / 2**30:.1f} GiB, {platform.system()} {platform.release()}"
+    return f"{ed_scaling.machine()}, {total_memory_bytes() / 2**30:.1f} GiB"
 
 
 def meminfo_bytes(key):
@@ -116,13 +109,6 @@ def run(binary, out, sets, threads=1, config=None):
 def verify(binary, out):
     r = subprocess.run([binary, "verify", out], capture_output=True, text=True)
     return "pass" if r.returncode == 0 else f"FAIL ({r.returncode})"
-
-
-def fit_exponent(ns, times):
-    xs = [math.log(n) for n in ns]
-    ys = [math.log(t) for t in times]
-    mx, my = statistics.fmean(xs), statistics.fmean(ys)
-    return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sum((x - mx) ** 2 for x in xs)
 
 
 def verdict(value, goal, at_most=True):
@@ -176,7 +162,7 @@ def ed_series(a, table, dim, baseline):
                                "; ".join(g for g, _ in goals), "; ".join(v for _, v in goals))
         done.append((n, m.summary["wall_seconds"], out))
     if len(done) > 1:
-        z = fit_exponent([n for n, _, _ in done], [t for _, t, _ in done])
+        z = ed_scaling.fit_exponent([n for n, _, _ in done], [t for _, t, _ in done])
         print(f"| ed-{dim}d | growth exponent {done[0][0]}..{done[-1][0]} | {z:.3f} | | | | | | | | "
               f"<= {GROWTH_EXPONENT_GOAL} | {verdict(z, GROWTH_EXPONENT_GOAL)} |", flush=True)
     return done
