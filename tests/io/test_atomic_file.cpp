@@ -140,23 +140,33 @@ TEST(AtomicFile, KeptTemporaryOutlivesAFailureAndIsCutBackOnResume) {
   EXPECT_FALSE(fs::exists(temporary_path_for(path)));
 }
 
+// Writes a checkpoint whose state is "previous" into dir: the one a failed write must leave.
+Checkpoint write_previous_checkpoint(const TempDir& dir) {
+  Checkpoint previous;
+  previous.engine = "ed";
+  previous.state = "previous";
+  write_checkpoint_file(dir.path().string(), previous);
+  return previous;
+}
+
+// The previous checkpoint is still there, and nothing else (no temporary file).
+void expect_only_the_previous_checkpoint(const TempDir& dir) {
+  EXPECT_EQ(read_checkpoint_file(dir.path().string()).state, "previous");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1);
+}
+
 TEST(AtomicFile, CheckpointBeyondAFileSizeLimitKeepsThePreviousOne) {
   // The checkpoint is replaced only by a complete one: a failed write leaves the previous
   // checkpoint, from which the run can still be resumed.
   const TempDir dir;
-  Checkpoint small;
-  small.engine = "ed";
-  small.state = "previous";
-  write_checkpoint_file(dir.path().string(), small);
-  Checkpoint large = small;
+  Checkpoint large = write_previous_checkpoint(dir);
   large.state = std::string(100000, 's');
   const std::string message = output_error_of([&] {
     const FileSizeLimit limit(16384);
     write_checkpoint_file(dir.path().string(), large);
   });
   EXPECT_EQ(message, (dir / kCheckpointFile).string() + ": cannot write: " + std::strerror(EFBIG));
-  EXPECT_EQ(read_checkpoint_file(dir.path().string()).state, "previous");
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1);
+  expect_only_the_previous_checkpoint(dir);
 }
 
 // ---- Streamed checkpoints and output files ----
@@ -229,10 +239,7 @@ TEST(AtomicFile, StreamedCheckpointThatFailsKeepsThePreviousOne) {
   // A write beyond a file-size limit, and a section whose owner throws while putting it:
   // each leaves the previous checkpoint and no temporary file.
   const TempDir dir;
-  Checkpoint previous;
-  previous.engine = "ed";
-  previous.state = "previous";
-  write_checkpoint_file(dir.path().string(), previous);
+  write_previous_checkpoint(dir);
   const Checkpoint head = checkpoint_around_streamed_sections();
   const std::string message = output_error_of([&] {
     const FileSizeLimit limit(1 << 20);
@@ -244,8 +251,7 @@ TEST(AtomicFile, StreamedCheckpointThatFailsKeepsThePreviousOne) {
     throw std::runtime_error("engine failed");
   };
   EXPECT_THROW(write_checkpoint_file(dir.path().string(), head, put_state_section, throwing), std::runtime_error);
-  EXPECT_EQ(read_checkpoint_file(dir.path().string()).state, "previous");
-  EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1);
+  expect_only_the_previous_checkpoint(dir);
 }
 
 TEST(AtomicFile, StreamedOutputFileHoldsWhatWasHandedOn) {
