@@ -274,6 +274,8 @@ TEST(Checkpoint, StateWithNumbersNoRunCanHoldIsRefused) {
   refused("time", [&](State<2>& s) { s.time = nan; });
   refused("largest radius", [&](State<2>& s) { s.spheres.radius[3] = 2.0 * s.max_radius(); });
   refused("box length outside", [&](State<2>& s) { s.clusters[c0].anchor[0] = 3.0 * s.box.length; });
+  // A stamp no run hands out: the event calendar's kind bits would take it (core/state.hpp).
+  refused("cluster stamp", [&](State<2>& s) { s.clusters[c0].stamp = kStampLimit; });
   // The largest radius itself (a cache, saved as is): the bytes patched in place.
   std::string patched = good;
   const std::size_t at = patched.size() - (4 + 2 * 8 + 8 + 2 * 8 + 8 + 8 + 8);  // see StateCodec::encode

@@ -7,6 +7,7 @@
 // one instant (anchor, anchor_time) and its velocity: positions at any time t are evaluated
 // lazily, so a cluster of a million spheres moves, bounces or changes velocity in O(1).
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "ballagg/core/box.hpp"
@@ -14,6 +15,12 @@
 #include "ballagg/core/vec.hpp"
 
 namespace ballagg {
+
+// Cluster stamps count up from 1 and stay below 2^61: the event-driven calendar keeps an
+// event's kind in the top bits of a stamp's word (engines/event_driven/event_calendar.hpp).
+// 2^61 renewals would take a run renewing a billion stamps a second 73 years; a state
+// loaded with a stamp at or beyond the limit is refused.
+inline constexpr std::uint64_t kStampLimit = std::uint64_t{1} << 61;
 
 template <int D>
 struct Spheres {
@@ -178,7 +185,10 @@ class State {
 
  private:
   friend struct StateCodec<D>;  // saves and restores the bookkeeping below exactly
-  std::uint64_t new_stamp() { return ++last_stamp_; }
+  std::uint64_t new_stamp() {
+    if (last_stamp_ + 1 >= kStampLimit) throw std::length_error("cluster stamps exhausted (2^61)");
+    return ++last_stamp_;
+  }
   void assign_motion(int c, const Vec<D>& v, double t);
   void add_to_totals(int c, double sign) {
     const Cluster<D>& k = clusters[c];

@@ -145,6 +145,11 @@ State<D> StateCodec<D>::decode(std::string_view bytes) {
       if (i < 0 || static_cast<std::uint64_t>(i) >= n || s.spheres.cluster[i] != static_cast<std::int32_t>(c))
         r.fail("a cluster member that is not a sphere of that cluster");
   s.last_stamp_ = r.get<std::uint64_t>("last stamp");
+  // Stamps are handed out in increasing order, so none exceeds the last; kStampLimit bounds
+  // them all.
+  if (s.last_stamp_ >= kStampLimit) r.fail("last stamp beyond 2^61");
+  for (const Cluster<D>& k : s.clusters)
+    if (k.stamp > s.last_stamp_) r.fail("a cluster stamp later than the last stamp");
   s.alive_ = r.get_vector<std::int32_t>("live clusters", m);
   s.alive_slot_.assign(m, -1);
   for (std::size_t k = 0; k < s.alive_.size(); ++k) {
