@@ -382,5 +382,60 @@ TEST_P(EventDriven, SameSeedGivesByteIdenticalFinalState) {
   EXPECT_NE(a, other);
 }
 
+// `ed` keeps only the earliest events of each cluster (EventDrivenSettings::kept_events)
+// and predicts a cluster again when its refill marker is due: the run is the same event for
+// event as with every prediction kept, for sticking and bouncing, walls and periodic faces.
+template <int D>
+void same_run_whatever_is_kept(Config c, const CollisionSettings& law, const StopCriteria& stop) {
+  auto run = [&](int kept, RunResult& r) {
+    State<D> s = make_initial_state<D>(c);
+    RunObserver<D> none;
+    EventDrivenSettings settings{law, std::nullopt};
+    settings.kept_events = kept;
+    r = make_event_driven_engine<D>(settings)->run(s, stop, none);
+    return state_csv_text(s);
+  };
+  RunResult all, one, two;
+  const std::string text_all = run(0, all);
+  EXPECT_GT(all.counters.collisions, 50);
+  EXPECT_EQ(run(1, one), text_all);
+  EXPECT_EQ(run(2, two), text_all);
+  for (const RunResult* r : {&one, &two}) {
+    EXPECT_EQ(r->counters.events, all.counters.events);
+    EXPECT_EQ(r->counters.collisions, all.counters.collisions);
+    EXPECT_EQ(r->counters.wall_bounces, all.counters.wall_bounces);
+  }
+  EXPECT_EQ(one.count("list_rebuilds"), all.count("list_rebuilds"));
+  EXPECT_LT(one.count("event_queue_peak"), all.count("event_queue_peak"));
+  EXPECT_GT(one.count("pair_predictions"), all.count("pair_predictions"));  // the refills
+}
+
+TEST(EventDrivenKeptEvents, KeepingOnlyTheEarliestEventsChangesNoResult) {
+  StopCriteria to_one;
+  StopCriteria until_20 = until(20.0);
+  {
+    SCOPED_TRACE("2D walls, lattice, stick");
+    Config c = testing::small_config(2, 900, 0.2, Boundary::walls, 3);
+    c.initial.positions = InitialPositions::lattice;
+    same_run_whatever_is_kept<2>(c, {}, to_one);
+  }
+  {
+    SCOPED_TRACE("3D periodic, random, stick");
+    Config c = testing::small_config(3, 600, 0.2, Boundary::periodic, 4);
+    c.initial.zero_momentum = true;
+    same_run_whatever_is_kept<3>(c, {}, to_one);
+  }
+  {
+    SCOPED_TRACE("2D periodic, bounce 0.9");
+    same_run_whatever_is_kept<2>(testing::small_config(2, 400, 0.3, Boundary::periodic, 5),
+                                 {CollisionOutcome::bounce, 0.9, 0.0}, until_20);
+  }
+  {
+    SCOPED_TRACE("3D walls, elastic");
+    same_run_whatever_is_kept<3>(testing::small_config(3, 400, 0.3, Boundary::walls, 6),
+                                 {CollisionOutcome::bounce, 1.0, 0.0}, until_20);
+  }
+}
+
 }  // namespace
 }  // namespace ballagg

@@ -8,7 +8,10 @@
 //   EventRecord collide(a, b, t)          EventKind::collision;
 //   EventRecord hit_wall(a, b, t)         EventKind::wall;
 //   EventRecord rebuild(a, t)             EventKind::list_rebuild;
-//   EventRecord search(a, b, t)           EventKind::contact_search, if it files such events.
+//   EventRecord search(a, b, t)           EventKind::contact_search, if it files such events;
+//   void refill(c)                        predicts cluster c again, if its calendar keeps
+//                                         only the earliest events (keep_at_most): a due
+//                                         refill marker is handled here, unseen by the loop.
 // Every call is resolved at compile time: an event costs no virtual call.
 #include <optional>
 
@@ -21,7 +24,11 @@ template <class Core>
 class CalendarDispatch {
  public:
   std::optional<Event> next_event() {
-    return calendar_.pop_valid([&](const Event& e) { return core().valid(e); });
+    while (true) {
+      std::optional<Event> next = calendar_.pop_valid([&](const Event& e) { return core().valid(e); });
+      if (!next || next->kind != EventKind::refill) return next;
+      if constexpr (requires { core().refill(next->a); }) core().refill(next->a);
+    }
   }
   void put_back(const Event& e) { calendar_.put_back(e); }
 
@@ -35,6 +42,7 @@ class CalendarDispatch {
         if constexpr (requires { c.search(e.a, e.b, e.time); }) return c.search(e.a, e.b, e.time);
         break;  // never filed by a core without contact searches
       case EventKind::time_step: break;  // never filed: time stepping only
+      case EventKind::refill: break;     // handled by next_event()
     }
     return {};
   }

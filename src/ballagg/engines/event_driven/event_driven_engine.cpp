@@ -56,6 +56,7 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     keeper_.assign(m);
     lists_.reset(n, m);
     calendar_.reset(m);
+    calendar_.keep_at_most(settings.kept_events);
     for (int i = 0; i < n; ++i) {
       grid_.insert(i, s_.position(i, s_.time));
       grid_.set_tag(i, sphere_[i].cluster);
@@ -86,10 +87,11 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     lists_.reset(n, m);
     lists_.restore(r);
     calendar_.reset(m);
+    calendar_.keep_at_most(settings.kept_events);
     calendar_.restore(r, [&](const Event& e) {
       const bool ok = e.kind == EventKind::collision ? e.a >= 0 && e.a < e.b && e.b < n
                       : e.kind == EventKind::wall    ? e.a >= 0 && e.a < m && e.b >= 0 && e.b < D
-                      : e.kind == EventKind::list_rebuild && e.a >= 0 && e.a < m;
+                      : (e.kind == EventKind::list_rebuild || e.kind == EventKind::refill) && e.a >= 0 && e.a < m;
       if (!ok) r.fail("an event that names no sphere or cluster");
     });
     keeper_.restore(r, m);
@@ -174,7 +176,7 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
       });
     }
     if (keeper_.expiry(c) < kNever) batch_.push_back({keeper_.expiry(c), c, 0, k.stamp, 0, EventKind::list_rebuild});
-    calendar_.file(c, batch_);
+    calendar_.file(c, batch_, k.stamp);
     count_.rebuilt_spheres += k.size();
     ++count_.list_rebuilds;
     return {.time = t, .kind = EventKind::list_rebuild, .cluster = c};
@@ -227,9 +229,13 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
         if (auto e = pair_event(i, j)) batch_.push_back(*e);
       }
     }
-    calendar_.refile(c, batch_);
+    calendar_.refile(c, batch_, k.stamp);
     count_.queue_peak = std::max<std::int64_t>(count_.queue_peak, calendar_.size());
   }
+
+  // A refill marker of cluster c is due (event_calendar.hpp): its events are predicted
+  // again, the same as when they were left out.
+  void refill(int c) { predict(c); }
 
   // ---- event handlers --------------------------------------------------------------------
 
