@@ -9,7 +9,7 @@ namespace ballagg {
 
 // Each cluster keeps at most this many predicted events in the calendar of `ed`, and one
 // refill marker for those left out (engines/event_driven/event_calendar.hpp). One event
-// and a marker fill a block of two: an aggregating 2D run of 10^6 discs peaks 49 bytes per
+// and a marker fill a block of two: an aggregating 2D run of 10^6 discs peaks 50 bytes per
 // sphere lower than with every event kept, in the same time; a dense elastic gas, where
 // each refill predicts about 12 partners again, runs up to 8 % slower
 // (docs/performance.md).
