@@ -1,5 +1,6 @@
-// The pool of short lists behind the event calendar: each owner's values survive growth,
-// shrinking and the other owners' changes; freed blocks are reused; binary-heap operations
+// The pool of short lists behind the event calendar and the neighbour lists: each owner's
+// values survive growth, shrinking and the other owners' changes; freed blocks are reused
+// (also when the last owner leaves); binary-heap operations
 // on a pooled list give the same arrangement as on a std::vector; sizes beyond the limit
 // are refused.
 #include <gtest/gtest.h>
@@ -75,6 +76,22 @@ TEST(PooledLists, ReusesAFreedBlockOfTheSameClass) {
   EXPECT_EQ(pool.data(2), freed);
   EXPECT_EQ(values(pool, 2), four);
   EXPECT_EQ(values(pool, 1), std::vector<int>{5});
+}
+
+// The last owner leaves for good (a sphere coagulated away): its block is free again, the
+// others keep theirs.
+TEST(PooledLists, PoppingTheLastOwnerFreesItsBlock) {
+  PooledLists<int> pool;
+  pool.reset(3);
+  for (int k = 0; k < 4; ++k) pool.push_back(2, k);  // a block of 4
+  pool.push_back(0, 7);
+  const int* freed = pool.data(2);
+  pool.pop_owner();
+  EXPECT_EQ(pool.owners(), 2);
+  EXPECT_EQ(values(pool, 0), std::vector<int>{7});
+  const std::vector<int> four{1, 2, 3, 4};
+  pool.assign(1, four.data(), four.size());
+  EXPECT_EQ(pool.data(1), freed);
 }
 
 TEST(PooledLists, AssignKeepsAFittingBlockAndShrinksAnOversizedOne) {

@@ -96,6 +96,11 @@ class PooledLists {
     if (s.cls != 0) free_block(s.offset, s.cls);
     s = Slot{};
   }
+  // Releases the last owner and removes it: owners stay dense when one leaves for good.
+  void pop_owner() {
+    release(owners() - 1);
+    slot_.pop_back();
+  }
 
  private:
   static constexpr std::uint32_t kNoBlock = ~std::uint32_t{0};

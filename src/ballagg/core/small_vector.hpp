@@ -1,9 +1,8 @@
 #pragma once
 // A vector of trivially copyable values that stores up to N of them in place and spills
-// to the heap beyond. The engine keeps one short list per sphere (its foreign neighbours,
-// about five) and per cluster (its exposed spheres, one for a monomer): in place, reading a
-// list costs no pointer chase to a separate allocation, and a gas of a million spheres does
-// not make a million small allocations.
+// to the heap beyond. The event-driven engine keeps one per cluster (its exposed spheres,
+// one for a monomer): in place, reading a list costs no pointer chase to a separate
+// allocation, and a gas of a million monomers does not make a million small allocations.
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
