@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """Long runs: each engine at scale, to one cluster (or 99% of the mass), with
-`ballagg verify` at the end and the memory sampled over the run (docs/performance.md,
+`ballagg verify` at the end and the memory sampled over the run (docs/profiles.md,
 "Long runs").
 
 For each case: wall time, CPU time, peak resident set, the resident set at a quarter,

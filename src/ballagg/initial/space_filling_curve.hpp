@@ -2,7 +2,7 @@
 // The order of points along a Z-order (Morton) curve over the box: generated spheres are
 // numbered in this order rather than in the order they were placed, since their numbering
 // carries no meaning and neighbours that sit close in memory make the engines much less
-// bound by cache misses (docs/performance.md).
+// bound by cache misses (docs/profiles.md).
 #include <algorithm>
 #include <array>
 #include <cmath>

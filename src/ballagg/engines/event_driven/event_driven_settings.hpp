@@ -12,7 +12,7 @@ namespace ballagg {
 // and a marker fill a block of two: an aggregating 2D run of 10^6 discs peaks 50 bytes per
 // sphere lower than with every event kept, in the same time; a dense elastic gas, where
 // each refill predicts about 12 partners again, runs up to 8 % slower
-// (docs/performance.md).
+// (docs/profiles.md).
 inline constexpr int kKeptEventsPerCluster = 1;
 
 struct EventDrivenSettings {
