@@ -364,7 +364,7 @@ TEST(StateCsv, GluedPairStraddlingAPeriodicFaceIsUnwrapped) {
   EXPECT_NEAR(rel[1], 0.0, 1e-12);
   EXPECT_NEAR((s.spheres.offset[1] - s.spheres.offset[0])[0], 0.6, 1e-12);
   // The body extent is that of the pair, not of the whole box.
-  const auto& k = s.cluster_of(0);
+  const auto& k = s.extent(s.spheres.cluster[0]);
   EXPECT_NEAR(k.hi[0] - k.lo[0], 1.2, 1e-12);
   // Folded positions are those of the file.
   EXPECT_NEAR(s.position(0, 0.0)[0], 9.7, 1e-12);
@@ -396,7 +396,7 @@ TEST(StateCsv, GluedChainLongerThanHalfThePeriodicBoxIsUnwrappedAlongTheChain) {
   }
   const ballagg::Vec<2> rel7 = s.unwrapped_position(7, 0.0) - s.unwrapped_position(root, 0.0);
   EXPECT_NEAR(rel7[1], 0.5, 1e-12);
-  const auto& k = s.cluster_of(0);
+  const auto& k = s.extent(s.spheres.cluster[0]);
   EXPECT_NEAR(k.hi[0] - k.lo[0], 7.0, 1e-12);
   EXPECT_NEAR(k.hi[1] - k.lo[1], 1.5, 1e-12);
   EXPECT_EQ(ballagg::testing::worst_overlap(s) <= 1e-12, true);

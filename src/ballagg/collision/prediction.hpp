@@ -85,9 +85,9 @@ WallContact next_wall_contact(const State<D>& s, int c) {
     const double v = k.velocity[a];
     double gap;
     if (v > 0.0) {
-      gap = s.box.length - (k.anchor[a] + k.hi[a]);
+      gap = s.box.length - (k.anchor[a] + s.extent(c).hi[a]);
     } else if (v < 0.0) {
-      gap = k.anchor[a] + k.lo[a];
+      gap = k.anchor[a] + s.extent(c).lo[a];
     } else {
       continue;
     }

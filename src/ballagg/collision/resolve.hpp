@@ -14,10 +14,11 @@ void bounce_clusters(State<D>& s, int i, int j, double t, const CollisionSetting
   Cluster<D>& ka = s.clusters[a];
   Cluster<D>& kb = s.clusters[b];
   const Vec<D> n = s.box.separation(s.unwrapped_position(i, t), s.unwrapped_position(j, t)).normalized();
-  const bool recent = t - ka.last_collision_time < law.tc() || t - kb.last_collision_time < law.tc();
+  const bool recent = t - s.last_collision_time(a) < law.tc() || t - s.last_collision_time(b) < law.tc();
   Vec<D> va = ka.velocity, vb = kb.velocity;
   bounce_velocities(ka.mass, va, kb.mass, vb, n, recent ? 1.0 : law.restitution);
-  ka.last_collision_time = kb.last_collision_time = t;
+  s.set_last_collision_time(a, t);
+  s.set_last_collision_time(b, t);
   s.set_velocity(a, va, t);
   s.set_velocity(b, vb, t);
 }

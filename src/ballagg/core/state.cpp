@@ -44,6 +44,8 @@ void State<D>::finalize() {
   mean_radius_ = spheres.radius.empty() ? 0.0 : spheres.radius.front() + spread / n_spheres();
   alive_.clear();
   alive_slot_.assign(clusters.size(), -1);
+  extent_.resize(clusters.size());
+  last_collision_time_.resize(clusters.size(), kNeverCollided);
   largest_cluster_ = 0;
   for (int c = 0; c < static_cast<int>(clusters.size()); ++c) {
     Cluster<D>& k = clusters[c];
@@ -61,13 +63,14 @@ void State<D>::finalize() {
 
 template <int D>
 void State<D>::refresh_extent(int c) {
-  Cluster<D>& k = clusters[c];
-  k.lo = Vec<D>::Constant(std::numeric_limits<double>::infinity());
-  k.hi = -k.lo;
+  const Cluster<D>& k = clusters[c];
+  ClusterExtent<D>& e = extent_[c];
+  e.lo = Vec<D>::Constant(std::numeric_limits<double>::infinity());
+  e.hi = -e.lo;
   for (int i : k.members) {
     const Vec<D> r = Vec<D>::Constant(spheres.radius[i]);
-    k.lo = k.lo.cwiseMin(spheres.offset[i] - r);
-    k.hi = k.hi.cwiseMax(spheres.offset[i] + r);
+    e.lo = e.lo.cwiseMin(spheres.offset[i] - r);
+    e.hi = e.hi.cwiseMax(spheres.offset[i] + r);
   }
 }
 
@@ -82,8 +85,8 @@ void State<D>::translate(int c, const Vec<D>& du, double t) {
 template <int D>
 bool State<D>::pinned(int c, int a) const {
   if (box.periodic()) return false;
-  const Cluster<D>& k = clusters[c];
-  return k.hi[a] - k.lo[a] >= box.length - tolerance::kWallPinGap * min_diameter_;
+  const ClusterExtent<D>& e = extent_[c];
+  return e.hi[a] - e.lo[a] >= box.length - tolerance::kWallPinGap * min_diameter_;
 }
 
 template <int D>
@@ -131,8 +134,8 @@ int State<D>::merge(int i, int j, double t) {
     spheres.cluster[m] = a;
   }
   layout_changed();
-  keep.lo = keep.lo.cwiseMin(gone.lo + shift);
-  keep.hi = keep.hi.cwiseMax(gone.hi + shift);
+  extent_[a].lo = extent_[a].lo.cwiseMin(extent_[b].lo + shift);
+  extent_[a].hi = extent_[a].hi.cwiseMax(extent_[b].hi + shift);
   const Vec<D> v = stick_velocity(keep.mass, keep.velocity, gone.mass, gone.velocity);
   absorb(a, b, t);
   assign_motion(a, v, t);
@@ -155,10 +158,9 @@ void State<D>::absorb(int keep, int gone, double t) {
   Cluster<D>& k = clusters[keep];
   Cluster<D>& g = clusters[gone];
   k.mass += g.mass;
-  k.members.insert(k.members.end(), g.members.begin(), g.members.end());
-  k.last_collision_time = t;
+  k.members.append(g.members.begin(), g.members.end());
+  last_collision_time_[keep] = t;
   g.members.clear();
-  g.members.shrink_to_fit();
   g.mass = 0.0;
   g.velocity.setZero();
   g.stamp = new_stamp();
@@ -209,7 +211,7 @@ int State<D>::coalesce_spheres(int i, int j, double r, const Vec<D>& x, const Ve
   min_diameter_ = std::min(min_diameter_, 2.0 * r);
   // Sphere j leaves; the last sphere takes its id.
   const int last = n_spheres() - 1;
-  std::vector<std::int32_t>& members = clusters[a].members;
+  MemberList& members = clusters[a].members;
   members.erase(std::find(members.begin(), members.end(), j));
   int moved = -1;
   if (j != last) {
@@ -218,7 +220,7 @@ int State<D>::coalesce_spheres(int i, int j, double r, const Vec<D>& x, const Ve
     spheres.radius[j] = spheres.radius[last];
     spheres.mass[j] = spheres.mass[last];
     spheres.cluster[j] = spheres.cluster[last];
-    std::vector<std::int32_t>& holder = clusters[spheres.cluster[j]].members;
+    MemberList& holder = clusters[spheres.cluster[j]].members;
     *std::find(holder.begin(), holder.end(), last) = j;
   }
   spheres.offset.pop_back();
@@ -233,23 +235,25 @@ int State<D>::coalesce_spheres(int i, int j, double r, const Vec<D>& x, const Ve
 
 template <int D>
 std::vector<std::int32_t> State<D>::split_rigid(int c, const std::vector<std::int32_t>& empty_clusters, double t) {
-  const std::vector<std::int32_t> members = clusters[c].members;
+  const std::vector<std::int32_t> members(clusters[c].members.begin(), clusters[c].members.end());
   layout_changed();
   std::vector<std::int32_t> ids{static_cast<std::int32_t>(c)};
   std::vector<Vec<D>> at(members.size());
   for (std::size_t k = 0; k < members.size(); ++k) at[k] = unwrapped_position(members[k], t);
   add_to_totals(c, -1.0);
   Cluster<D>& first = clusters[c];
-  first.members.assign(1, members.front());
+  first.members.clear();
+  first.members.push_back(members.front());
   first.mass = spheres.mass[members.front()];
   first.velocity.setZero();
   for (std::size_t k = 1; k < members.size(); ++k) {
     const std::int32_t id = empty_clusters[k - 1];
     Cluster<D>& piece = clusters[id];
-    piece.members.assign(1, members[k]);
+    piece.members.clear();
+    piece.members.push_back(members[k]);
     piece.mass = spheres.mass[members[k]];
     piece.velocity.setZero();
-    piece.last_collision_time = t;
+    last_collision_time_[id] = t;
     alive_slot_[id] = static_cast<std::int32_t>(alive_.size());
     alive_.push_back(id);
     spheres.cluster[members[k]] = id;
@@ -261,7 +265,7 @@ std::vector<std::int32_t> State<D>::split_rigid(int c, const std::vector<std::in
     piece.anchor = at[k];
     piece.anchor_time = t;
     piece.stamp = new_stamp();
-    piece.lo = piece.hi = Vec<D>::Zero();
+    extent_[ids[k]] = {};
   }
   largest_cluster_ = 0;
   for (int a : alive_) largest_cluster_ = std::max(largest_cluster_, clusters[a].size());
@@ -273,6 +277,8 @@ void State<D>::reserve_clusters(int n) {
   if (static_cast<int>(clusters.size()) >= n) return;
   clusters.resize(n);
   alive_slot_.resize(n, -1);
+  extent_.resize(n);
+  last_collision_time_.resize(n, kNeverCollided);
   if (!spin.empty()) spin.resize(n);
 }
 

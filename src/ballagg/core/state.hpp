@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "ballagg/core/box.hpp"
+#include "ballagg/core/member_list.hpp"
 #include "ballagg/core/spin.hpp"
 #include "ballagg/core/vec.hpp"
 
@@ -32,8 +33,10 @@ struct Spheres {
   int size() const { return static_cast<int>(radius.size()); }
 };
 
-// Aligned to a cache line so that the hot fields below never straddle two (in 3D they
-// take 64 bytes; without the alignment most clusters of a 152-byte array straddled).
+// Aligned to a cache line so that the hot fields below never straddle two. A 2D record is
+// one cache line, a 3D one two (its hot fields fill the first); the fields read only by
+// wall contacts and the TC model live in State's per-cluster arrays (ClusterExtent,
+// last_collision_time), so that the N records of a gas of monomers cost 64 bytes each in 2D.
 template <int D>
 struct alignas(64) Cluster {
   // Hot: read by every prediction and validity check; kept within one cache line.
@@ -41,15 +44,20 @@ struct alignas(64) Cluster {
   Vec<D> velocity = Vec<D>::Zero();
   double anchor_time = 0.0;
   std::uint64_t stamp = 0;             // renewed at every change of motion or membership
-  // Cold: bookkeeping.
+  // Bookkeeping.
   double mass = 0.0;
-  std::vector<std::int32_t> members;   // sphere ids, empty once merged into another cluster
-  Vec<D> lo = Vec<D>::Zero();          // body-frame bounding box of the member spheres,
-  Vec<D> hi = Vec<D>::Zero();          // radii included (used for wall contacts)
-  double last_collision_time = -1e300; // for the TC model of inelastic collapse
+  MemberList members;                  // sphere ids, empty once merged into another cluster
 
   bool alive() const { return !members.empty(); }
   int size() const { return static_cast<int>(members.size()); }
+};
+static_assert(sizeof(Cluster<2>) == 64 && sizeof(Cluster<3>) == 128);
+
+// The body-frame bounding box of a cluster's spheres, radii included (wall contacts).
+template <int D>
+struct ClusterExtent {
+  Vec<D> lo = Vec<D>::Zero();
+  Vec<D> hi = Vec<D>::Zero();
 };
 
 // The rotation of a rigid cluster (engine.kind = "rigid-body", docs/rigid_body.md): its
@@ -88,6 +96,12 @@ class State {
   double mean_radius() const { return mean_radius_; }
 
   const Cluster<D>& cluster_of(int sphere) const { return clusters[spheres.cluster[sphere]]; }
+  // Cluster c's body-frame bounding box; finalize, merges and refresh_extent keep it.
+  const ClusterExtent<D>& extent(int c) const { return extent_[c]; }
+  // When cluster c last collided (kNeverCollided before): the TC model's memory.
+  double last_collision_time(int c) const { return last_collision_time_[c]; }
+  void set_last_collision_time(int c, double t) { last_collision_time_[c] = t; }
+  static constexpr double kNeverCollided = -1e300;
 
   // Where the body origin of cluster c is at time t, not folded into the box.
   Vec<D> origin(int c, double t) const {
@@ -209,6 +223,10 @@ class State {
   void place(int c, const Vec<D>& x, const Vec<D>& v, double t);
 
   std::uint64_t last_stamp_ = 0;
+  // Indexed by cluster id like `clusters`, and as long (finalize, reserve_clusters): read
+  // only by wall contacts and the TC model, so kept out of the cluster records.
+  std::vector<ClusterExtent<D>> extent_;
+  std::vector<double> last_collision_time_;
   std::vector<std::int32_t> alive_;       // ids of clusters with members
   std::vector<std::int32_t> alive_slot_;  // position of each cluster id in alive_
   int largest_cluster_ = 0;

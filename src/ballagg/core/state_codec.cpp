@@ -34,9 +34,11 @@ void check_numbers(const State<D>& s, const ByteReader& r) {
     smallest = std::min(smallest, radius);
     largest = std::max(largest, radius);
   }
-  for (const Cluster<D>& k : s.clusters) {
-    if (!(k.anchor.allFinite() && k.velocity.allFinite() && std::isfinite(k.anchor_time) && k.lo.allFinite() &&
-          k.hi.allFinite() && !std::isnan(k.last_collision_time)))
+  for (std::size_t c = 0; c < s.clusters.size(); ++c) {
+    const Cluster<D>& k = s.clusters[c];
+    const ClusterExtent<D>& e = s.extent(static_cast<int>(c));
+    if (!(k.anchor.allFinite() && k.velocity.allFinite() && std::isfinite(k.anchor_time) && e.lo.allFinite() &&
+          e.hi.allFinite() && !std::isnan(s.last_collision_time(static_cast<int>(c)))))
       r.fail("a cluster's motion or extent not finite");
     if (!(std::isfinite(k.mass) && (k.mass > 0.0 || !k.alive()))) r.fail("a cluster mass not a positive number");
   }
@@ -76,16 +78,17 @@ void StateCodec<D>::encode(const State<D>& s, ByteWriter& w) {
   w.put_vector(s.spheres.mass);
   w.put_vector(s.spheres.cluster);
   w.put<std::uint64_t>(s.clusters.size());
-  for (const Cluster<D>& k : s.clusters) {
+  for (std::size_t c = 0; c < s.clusters.size(); ++c) {
+    const Cluster<D>& k = s.clusters[c];
     w.put(k.anchor);
     w.put(k.velocity);
     w.put(k.anchor_time);
     w.put(k.stamp);
     w.put(k.mass);
-    w.put_vector(k.members);
-    w.put(k.lo);
-    w.put(k.hi);
-    w.put(k.last_collision_time);
+    w.put_array(k.members.data(), k.members.size());
+    w.put(s.extent_[c].lo);
+    w.put(s.extent_[c].hi);
+    w.put(s.last_collision_time_[c]);
   }
   w.put(s.last_stamp_);
   w.put_vector(s.alive_);
@@ -125,18 +128,21 @@ State<D> StateCodec<D>::decode(std::string_view bytes) {
   constexpr std::uint64_t kClusterBytes = (4 * D + 5) * sizeof(double);
   if (m > r.remaining() / kClusterBytes) r.fail("more clusters than the bytes left can hold");
   s.clusters.resize(m);
+  s.extent_.resize(m);
+  s.last_collision_time_.resize(m);
   std::uint64_t members = 0;
-  for (Cluster<D>& k : s.clusters) {
+  for (std::size_t c = 0; c < m; ++c) {
+    Cluster<D>& k = s.clusters[c];
     k.anchor = r.get<Vec<D>>("cluster anchor");
     k.velocity = r.get<Vec<D>>("cluster velocity");
     k.anchor_time = r.get<double>("cluster anchor time");
     k.stamp = r.get<std::uint64_t>("cluster stamp");
     k.mass = r.get<double>("cluster mass");
-    k.members = r.get_vector<std::int32_t>("cluster members", n - members);
+    r.get_into<std::int32_t>(k.members, "cluster members", n - members);
     members += k.members.size();
-    k.lo = r.get<Vec<D>>("cluster extent");
-    k.hi = r.get<Vec<D>>("cluster extent");
-    k.last_collision_time = r.get<double>("cluster collision time");
+    s.extent_[c].lo = r.get<Vec<D>>("cluster extent");
+    s.extent_[c].hi = r.get<Vec<D>>("cluster extent");
+    s.last_collision_time_[c] = r.get<double>("cluster collision time");
   }
   // Every sphere is a member of exactly the cluster it names.
   if (members != n) r.fail("cluster members do not cover the spheres");

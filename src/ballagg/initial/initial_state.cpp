@@ -265,7 +265,7 @@ void set_cluster_motions(State<D>& s, const SphereTable<D>& t, const ClusterGrou
     Cluster<D>& k = s.clusters[c];
     const std::span<const std::int32_t> members = groups.members(c);
     const int root = members.front();
-    k.members.assign(members.begin(), members.end());
+    k.members.assign(members.data(), members.data() + members.size());
     k.anchor = Vec<D>::Zero();
     Vec<D> momentum = Vec<D>::Zero();
     double mass = 0.0;

@@ -28,7 +28,7 @@ WallCorrection<D> wall_correction(const State<D>& s, int c, double t, bool refle
   const Vec<D> origin = s.origin(c, t);
   Vec<D>& v = w.velocity;
   for (int a = 0; a < D; ++a) {
-    const double lo = origin[a] + k.lo[a], hi = origin[a] + k.hi[a], length = s.box.length;
+    const double lo = origin[a] + s.extent(c).lo[a], hi = origin[a] + s.extent(c).hi[a], length = s.box.length;
     double d = 0.0;
     if (lo < 0.0) {
       const bool outwards = reflect && v[a] < 0.0;

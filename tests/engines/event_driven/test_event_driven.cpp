@@ -147,8 +147,8 @@ TEST_P(EventDriven, ClusterNearlyAsWideAsTheBoxRattlesWithoutStalling) {
   EXPECT_EQ(r.reason, StopReason::time);
   EXPECT_GT(r.counters.wall_bounces, 4000);
   EXPECT_LT(r.counters.wall_bounces, 5100);
-  const double left = s.origin(0, s.time)[0] + s.clusters[0].lo[0];
-  const double right = s.origin(0, s.time)[0] + s.clusters[0].hi[0];
+  const double left = s.origin(0, s.time)[0] + s.extent(0).lo[0];
+  const double right = s.origin(0, s.time)[0] + s.extent(0).hi[0];
   EXPECT_GE(left, -1e-12);
   EXPECT_LE(right, s.box.length + 1e-12);
 }

@@ -109,7 +109,7 @@ TEST_P(TimeStepping, ThreeDiscsMeetingAtOnePointFormOneClusterAtRest) {
 template <int D>
 bool clusters_hold_together(const State<D>& s, double limit) {
   for (int c : s.alive_clusters()) {
-    const std::vector<std::int32_t>& m = s.clusters[c].members;
+    const MemberList& m = s.clusters[c].members;
     DisjointSets sets(static_cast<int>(m.size()));
     int parts = static_cast<int>(m.size());
     for (std::size_t a = 0; a < m.size(); ++a)

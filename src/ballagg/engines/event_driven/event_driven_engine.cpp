@@ -279,7 +279,7 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     const int absorbed = std::min(s_.clusters[a].size(), s_.clusters[b].size());
     const int keep = s_.merge(i, j, t);
     const int gone = keep == a ? b : a;
-    const std::vector<std::int32_t>& members = s_.clusters[keep].members;  // absorbed ones last
+    const MemberList& members = s_.clusters[keep].members;  // absorbed ones last
     for (auto m = members.end() - absorbed; m != members.end(); ++m) {
       refresh_sphere(*m);
       grid_.set_tag(*m, keep);

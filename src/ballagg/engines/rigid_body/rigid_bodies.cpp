@@ -172,7 +172,7 @@ std::vector<std::int32_t> RigidBodies<D>::fragment(State<D>& s, int c, double re
                                                    double t) {
   const Pose p = pose(c, t);
   const Vec<D> centre = s.origin(c, t), velocity = s.clusters[c].velocity;
-  const std::vector<std::int32_t> members = s.clusters[c].members;
+  const std::vector<std::int32_t> members(s.clusters[c].members.begin(), s.clusters[c].members.end());  // split_rigid changes them
   double spread = 0.0;  // sum m |r|^2 about the centre of mass
   std::vector<Vec<D>> lever(members.size());
   for (std::size_t k = 0; k < members.size(); ++k) {

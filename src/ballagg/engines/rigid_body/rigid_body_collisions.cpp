@@ -62,8 +62,8 @@ void RigidBodyCore<D>::bounce(int i, int j, double t) {
   const Vec<D> n = s_.box.separation(Vec<D>(s_.origin(d, t) + oj), xi).normalized();  // from i to j
   const Vec<D> lever_c = oi + s_.spheres.radius[i] * n, lever_d = oj - s_.spheres.radius[j] * n;
   const ImpactBody<D> bc = bodies_.impact_body(s_, c, pc, lever_c), bd = bodies_.impact_body(s_, d, pd, lever_d);
-  const bool recent = t - s_.clusters[c].last_collision_time < settings_.collision.tc() ||
-                      t - s_.clusters[d].last_collision_time < settings_.collision.tc();
+  const bool recent = t - s_.last_collision_time(c) < settings_.collision.tc() ||
+                      t - s_.last_collision_time(d) < settings_.collision.tc();
   const double un = (bd.contact_velocity() - bc.contact_velocity()).dot(n);
   const RigidBodyLaw& law = settings_.law;
   ImpactCoefficients k{settings_.collision.restitution, law.mu_t, law.mu_p};
@@ -89,7 +89,8 @@ void RigidBodyCore<D>::bounce(int i, int j, double t) {
     forget_pose(c);
     forget_pose(d);
   }
-  s_.clusters[c].last_collision_time = s_.clusters[d].last_collision_time = t;
+  s_.set_last_collision_time(c, t);
+  s_.set_last_collision_time(d, t);
   // Both motions changed: c's predictions must see d's new list expiry.
   keeper_.renew_expiry(d);
   predict(c);
@@ -108,7 +109,7 @@ int RigidBodyCore<D>::stick(int i, int j, double t) {
   const int keep = bodies_.stick(s_, i, j, t);
   const int gone = keep == a ? b : a;
   const std::int32_t* cluster = s_.spheres.cluster.data();
-  const std::vector<std::int32_t>& members = s_.clusters[keep].members;  // absorbed ones last
+  const MemberList& members = s_.clusters[keep].members;  // absorbed ones last
   for (auto m = members.end() - absorbed; m != members.end(); ++m) grid_->set_tag(*m, keep);
   lists_.absorb(keep, gone, cluster);
   calendar_.forget(gone);
@@ -243,7 +244,7 @@ void RigidBodyCore<D>::attach_sphere(int i, double t) {
 template <int D>
 void RigidBodyCore<D>::fragment(int c, double released, double t) {
   const std::int32_t* cluster = s_.spheres.cluster.data();
-  const std::vector<std::int32_t> members = s_.clusters[c].members;
+  const std::vector<std::int32_t> members(s_.clusters[c].members.begin(), s_.clusters[c].members.end());
   const double slack = keeper_.drift(c, t);
   for (int i : members) lists_.remove_all_pairs(i, cluster);
   const std::vector<std::int32_t> pieces = bodies_.fragment(s_, c, released, empty_, t);

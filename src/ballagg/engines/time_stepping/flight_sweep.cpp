@@ -96,7 +96,7 @@ class FlightSweep {
   int root(int k) { return bodies_.find(k); }
   Vec<D> end_of_flight(int i) const { return ctx_.positions[i] - ctx_.step_shift[i]; }
   Vec<D> displacement(int k, double tau) const { return a_[k] + tau * v_[k]; }
-  const std::vector<int>& spheres(int k) const { return s_.clusters[clusters_[k].first].members; }
+  const MemberList& spheres(int k) const { return s_.clusters[clusters_[k].first].members; }
 
   using PairList = std::vector<std::pair<int, int>>;
   // The flight a search looked along, relative to what it searched (displacement a + tau v,
@@ -225,7 +225,7 @@ void FlightSweep<D>::search_outside(const SearchTask& task, double tau, std::vec
   const int k = task.k;
   PairList& kept = task.kept->pairs;  // empty: add_task started it afresh
   const Vec<D> path = (1.0 - tau) * v_[k];
-  const std::vector<int>& members = spheres(k);
+  const MemberList& members = spheres(k);
   for (std::size_t at = task.begin; at < task.end; ++at) {
     const int i = members[at];
     const Vec<D> p = s_.box.wrap(Vec<D>(end_of_flight(i) + displacement(k, tau)));
@@ -268,12 +268,12 @@ void FlightSweep<D>::search_walls(int body, double tau) {
     // The cluster's bounding box (radii included) where free flight put it, the state's
     // place at the step's time, moved as the sweep has moved it: O(1) per cluster, not
     // per sphere (a giant cluster is often in such a body late in a run).
-    const Cluster<D>& cluster = s_.clusters[clusters_[k].first];
+    const ClusterExtent<D>& extent = s_.extent(clusters_[k].first);
     const Vec<D> at = s_.origin(clusters_[k].first, s_.time) + displacement(k, tau);
     for (int axis = 0; axis < D; ++axis) {
       double t = kNoContact;
-      if (v[axis] < 0.0) t = std::max(0.0, (at[axis] + cluster.lo[axis]) / -v[axis]);
-      if (v[axis] > 0.0) t = std::max(0.0, (s_.box.length - at[axis] - cluster.hi[axis]) / v[axis]);
+      if (v[axis] < 0.0) t = std::max(0.0, (at[axis] + extent.lo[axis]) / -v[axis]);
+      if (v[axis] > 0.0) t = std::max(0.0, (s_.box.length - at[axis] - extent.hi[axis]) / v[axis]);
       if (t < first) { first = t; first_k = k; }
     }
   }

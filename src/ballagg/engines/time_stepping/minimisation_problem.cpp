@@ -160,8 +160,8 @@ GroupSolution<D> solve_rigid(const StepView<D>& ctx, const CollisionGroup& g) {
     std::vector<Vec<D>> lo(g.bodies.size(), Vec<D>::Constant(inf)), hi(g.bodies.size(), Vec<D>::Constant(-inf));
     for (const auto& [c, b] : clusters) {
       const Vec<D> at = s.origin(c, s.time) + ctx.step_shift[s.clusters[c].members.front()];
-      lo[b] = lo[b].cwiseMin(at + s.clusters[c].lo);
-      hi[b] = hi[b].cwiseMax(at + s.clusters[c].hi);
+      lo[b] = lo[b].cwiseMin(at + s.extent(c).lo);
+      hi[b] = hi[b].cwiseMax(at + s.extent(c).hi);
     }
     bound_by_walls(ctx, lo, hi, prob);
   }

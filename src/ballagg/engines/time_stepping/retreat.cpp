@@ -231,7 +231,7 @@ void RetreatSearch<D>::look_at_partner(Found& out, int i, std::size_t k, std::si
     if (!(other_queried && j < i)) consider(out, i, j, other_body);
   };
   if (s_.clusters[other].size() <= kListedClusterSize) {
-    const std::vector<int>& members = s_.clusters[other].members;
+    const MemberList& members = s_.clusters[other].members;
     const Vec<D>* member_start = listed_start_.data() + listed_first_[m];
     for (std::size_t q = 0; q < members.size(); ++q) {
       // consider()'s first test, to the bit: the same separation and drift.

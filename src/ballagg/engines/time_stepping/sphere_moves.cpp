@@ -129,7 +129,7 @@ void TimeSteppingEngine<D>::commit_rigid_moves(State<D>& s, std::vector<std::int
 #pragma omp parallel for schedule(static) if (n >= kParallelLoopMin)
   for (std::int64_t k = 0; k < n; ++k) {
     const int i = moved_in_step_[k];
-    const std::vector<int>& members = s.clusters[s.spheres.cluster[i]].members;
+    const MemberList& members = s.clusters[s.spheres.cluster[i]].members;
     if (members.front() != i) continue;
     double largest = 0.0;
     for_each_prefetched(members, [&](int j) { largest = std::max(largest, moves[j].norm()); }, moves);
