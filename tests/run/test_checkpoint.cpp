@@ -283,9 +283,9 @@ TEST(Checkpoint, StateWithNumbersNoRunCanHoldIsRefused) {
   EXPECT_THROW(StateCodec<2>::decode(patched), CheckpointError);
 }
 
-// fuzz_checkpoint_sections' finding (2026-12-04, the corpus file below): a rigid-body
-// checkpoint whose state's largest radius was NaN reached the engine's cell grid, which
-// converted NaN to int. The state decoder now refuses it.
+// A rigid-body checkpoint whose state's largest radius is NaN (the fuzz_checkpoint_sections
+// corpus file below) would reach the engine's cell grid, which converts NaN to int: the
+// state decoder refuses it.
 TEST(Checkpoint, FuzzedStateWithNanLargestRadiusIsRefused) {
   const std::string payload = read_file(std::filesystem::path(BALLAGG_SOURCE_DIR) / "tests" / "fuzz" / "corpus" /
                                         "fuzz_checkpoint_sections" / "nan_largest_radius.payload");

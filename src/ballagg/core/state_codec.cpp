@@ -20,8 +20,8 @@ constexpr double kBoxLengthsOutside = 1.0;
 // positive, caches of the radii that contradict them, spheres far outside the walls. The
 // structure (indices, counts) is checked as it is read; these are checked here, once it
 // is whole. A state refused here would otherwise reach the engines as NaN positions and
-// cell sizes (a fuzzed checkpoint with a NaN largest radius made the rigid-body engine's
-// cell grid convert NaN to int: fuzz_checkpoint_sections, 2026-12-04).
+// cell sizes (a checkpoint with a NaN largest radius would make the rigid-body engine's
+// cell grid convert NaN to int: tests/fuzz/corpus, Checkpoint.FuzzedStateWithNan...).
 template <int D>
 void check_numbers(const State<D>& s, const ByteReader& r) {
   if (!std::isfinite(s.time)) r.fail("time not a finite number");
