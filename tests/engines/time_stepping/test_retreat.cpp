@@ -88,6 +88,11 @@ bool clear_of(const Vec<D>& x, const std::vector<Vec<D>>& others, double distanc
   return true;
 }
 
+template <int D>
+bool retreat_matches_brute_force(std::vector<testing::Ball<D>> balls, int n_group_spheres,
+                                 const std::vector<Vec<D>>& cluster_flight, double length, Boundary boundary,
+                                 int& free_count, int& blocked_count);
+
 // One random group: 3-6 chains of 2-8 touching spheres (radius 0.5) whose starts are free
 // of each other, flying towards a common point so that they end deep inside each other,
 // among spheres that stay where they are, free of each other and of the group's ends (some
@@ -128,6 +133,17 @@ bool retreat_matches_brute_force(std::mt19937& rng, int& free_count, int& blocke
     if (clear_of<D>(x, outside, 1.0) && clear_of<D>(x, ends, 1.0)) outside.push_back(x);
   }
   for (const Vec<D>& x : outside) balls.push_back({x, Vec<D>::Zero(), 0.5, 1.0, -1});
+  return retreat_matches_brute_force<D>(balls, n_group_spheres, cluster_flight, length, Boundary::walls, free_count,
+                                        blocked_count);
+}
+
+// The retreat of a group against the brute force. balls: where the spheres are at the end
+// of the step, the group's first (n_group_spheres of them, Ball::cluster the index of
+// their cluster's flight in cluster_flight), then those outside (cluster -1), which stay.
+template <int D>
+bool retreat_matches_brute_force(std::vector<testing::Ball<D>> balls, int n_group_spheres,
+                                 const std::vector<Vec<D>>& cluster_flight, double length, Boundary boundary,
+                                 int& free_count, int& blocked_count) {
   // The retreat reads where the spheres are from the context, not from the state; the
   // state, which must be free of overlaps, holds them on a lattice.
   std::vector<Vec<D>> positions;
@@ -137,7 +153,7 @@ bool retreat_matches_brute_force(std::mt19937& rng, int& free_count, int& blocke
     std::size_t rest = k;
     for (int a = 0; a < D; ++a, rest /= side) balls[k].x[a] = 1.0 + static_cast<double>(rest % side);
   }
-  const State<D> s = testing::make_state<D>(length, Boundary::walls, balls);
+  const State<D> s = testing::make_state<D>(length, boundary, balls);
 
   const int n = s.n_spheres();
   const int n_ids = static_cast<int>(s.clusters.size());
@@ -195,6 +211,52 @@ void retreats_match_the_brute_force(int trials) {
 
 TEST(Retreat, MatchesABruteForceOverAllPairs2D) { retreats_match_the_brute_force<2>(300); }
 TEST(Retreat, MatchesABruteForceOverAllPairs3D) { retreats_match_the_brute_force<3>(100); }
+
+// A crowd: kPartnerGridClusters and more monomers (radius 0.5), free of each other at the
+// start of the step, each flying up to 3 in a random direction, among spheres at rest free
+// of the monomers' ends (some in their starting places). A group this large finds its
+// partners through the grid of swept boxes; the retreat must still match the brute force.
+template <int D>
+bool crowd_retreat_matches_brute_force(std::mt19937& rng, Boundary boundary, int& free_count, int& blocked_count) {
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double length = D == 2 ? 36.0 : 15.0;
+  // Starts and ends within the walls (3 from them), images apart with periodic faces.
+  auto anywhere = [&] { return Vec<D>(Vec<D>::NullaryExpr([&] { return 3.0 + (length - 6.0) * unit(rng); })); };
+  std::vector<Vec<D>> starts, ends, cluster_flight;
+  std::vector<testing::Ball<D>> balls;
+  for (int tries = 0; tries < 20000 && static_cast<int>(starts.size()) < 320; ++tries) {
+    const Vec<D> start = anywhere();
+    if (!clear_of<D>(start, starts, 1.0)) continue;
+    const Vec<D> flight = 3.0 * unit(rng) * random_direction<D>(rng);
+    starts.push_back(start);
+    ends.push_back(start + flight);
+    balls.push_back({Vec<D>(start + flight), Vec<D>::Zero(), 0.5, 1.0, static_cast<std::int64_t>(cluster_flight.size())});
+    cluster_flight.push_back(flight);
+  }
+  EXPECT_GE(starts.size(), 300u);
+  const int n_group_spheres = static_cast<int>(balls.size());
+  std::vector<Vec<D>> outside;
+  for (int tries = 0; tries < 300; ++tries) {
+    const Vec<D> x = anywhere();
+    if (clear_of<D>(x, outside, 1.0) && clear_of<D>(x, ends, 1.0)) outside.push_back(x);
+  }
+  for (const Vec<D>& x : outside) balls.push_back({x, Vec<D>::Zero(), 0.5, 1.0, -1});
+  return retreat_matches_brute_force<D>(balls, n_group_spheres, cluster_flight, length, boundary, free_count,
+                                        blocked_count);
+}
+
+template <int D>
+void crowd_retreats_match_the_brute_force(int trials) {
+  std::mt19937 rng(D == 2 ? 15 : 16);
+  int free_count = 0, blocked_count = 0;
+  for (int t = 0; t < trials; ++t) {
+    const Boundary boundary = t % 2 == 0 ? Boundary::walls : Boundary::periodic;
+    ASSERT_TRUE(crowd_retreat_matches_brute_force<D>(rng, boundary, free_count, blocked_count)) << "trial " << t;
+  }
+}
+
+TEST(Retreat, OfACrowdMatchesABruteForceOverAllPairs2D) { crowd_retreats_match_the_brute_force<2>(6); }
+TEST(Retreat, OfACrowdMatchesABruteForceOverAllPairs3D) { crowd_retreats_match_the_brute_force<3>(4); }
 
 // A group of three clusters: the giant G (still, far away), A (a row of `a_size` spheres
 // that flew up by 2) and the monomer B (flew down by 2 into A's first sphere, 0.2 from its

@@ -1,12 +1,15 @@
 // The time-stepping engine (paper §3): analytic outcomes of simple collisions, conservation
 // laws, the stopping conditions of the minimiser after every step, the three cluster
 // models, determinism and independence of the thread count.
+#include <chrono>
 #include <cmath>
 #include <functional>
+#include <thread>
 
 #include <gtest/gtest.h>
 
 #include "ballagg/core/disjoint_sets.hpp"
+#include "ballagg/core/run_guard.hpp"
 #include "ballagg/engines/time_stepping/time_step_rule.hpp"
 #include "ballagg/engines/time_stepping/time_stepping_engine.hpp"
 #include "ballagg/io/state_csv.hpp"
@@ -614,6 +617,66 @@ TEST(TimeSteppingLoop, OverlapsLeftWhenTheLoopGivesUpAreSettledByRetreats) {
   EXPECT_GT(r.count("link_rounds_exhausted"), 0);
   EXPECT_LE(worst, ts.daha.eps_c);
   EXPECT_LE(r.measure("max_residual_overlap"), ts.daha.eps_c);
+}
+
+// Before the first step, waits until the run's wall-clock limit has passed, so that the
+// step must end (RunGuard::step_must_end) from its first round on; keeps every sphere's
+// position before and after that step.
+class WallClockPassesInTheFirstStep final : public RunObserver<2> {
+ public:
+  WallClockPassesInTheFirstStep(const RunGuard& guard, double limit) : guard_(guard), limit_(limit) {}
+  void before_event(const State<2>& s, double) override {
+    if (steps_++ > 0) return;
+    before = positions(s);
+    while (guard_.elapsed() < limit_) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  void after_event(const State<2>& s, const EventRecord&, const EngineCounters&) override {
+    if (after.empty()) after = positions(s);
+  }
+  std::vector<Vec<2>> before, after;
+
+ private:
+  static std::vector<Vec<2>> positions(const State<2>& s) {
+    std::vector<Vec<2>> x;
+    for (int i = 0; i < s.n_spheres(); ++i) x.push_back(s.unwrapped_position(i, s.time));
+    return x;
+  }
+  const RunGuard& guard_;
+  double limit_;
+  int steps_ = 0;
+};
+
+TEST(TimeSteppingLoop, AStepThatMustEndSettlesByReturningEveryClusterToItsStart) {
+  // The set-up of the test above, whose first step leaves deep overlaps to settle. The
+  // wall-clock limit passes before that step: its settling ends at once, every cluster
+  // back where it was at the start of the step (where none overlapped) and no cluster
+  // merged, and the run ends after it, with no overlap beyond eps_c.
+  Config c = testing::small_config(2, 400, 0.3, Boundary::walls, 9);
+  State<2> s = make_initial_state<2>(c);
+  TimeSteppingSettings ts = settings(TsModel::rigid, 0.05);
+  ts.max_link_rounds = 1;
+  constexpr double kLimit = 0.05;
+  RunGuard guard(kLimit);
+  WallClockPassesInTheFirstStep observer(guard, kLimit);
+  StopCriteria stop = until(200, 40);
+  stop.guard = &guard;
+  const int clusters_before = s.n_clusters();
+  const RunResult r = run_ts(s, ts, stop, &observer);
+  EXPECT_EQ(r.reason, StopReason::wall_seconds);
+  EXPECT_EQ(r.counters.steps, 1);
+  EXPECT_EQ(s.n_clusters(), clusters_before);
+  ASSERT_EQ(observer.after.size(), observer.before.size());
+  double farthest = 0.0;
+  for (std::size_t i = 0; i < observer.before.size(); ++i)
+    farthest = std::max(farthest, (observer.after[i] - observer.before[i]).norm());
+  EXPECT_LE(farthest, 1e-12);
+  EXPECT_LE(worst_overlap(s), ts.daha.eps_c);
+
+  // Without the limit the same step merges clusters, and they move.
+  State<2> free_run = make_initial_state<2>(c);
+  const RunResult one_step = run_ts(free_run, ts, until(s.time));
+  EXPECT_LT(free_run.n_clusters(), clusters_before);
+  EXPECT_EQ(one_step.counters.steps, 1);
 }
 
 TEST(TimeSteppingGuards, MinimisationDoesNotPushASphereIntoItsNeighbour) {

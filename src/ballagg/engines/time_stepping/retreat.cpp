@@ -7,6 +7,8 @@
 
 #include "ballagg/collision/crossing.hpp"
 #include "ballagg/core/parallel.hpp"
+#include "ballagg/engines/time_stepping/sorted_ids.hpp"
+#include "ballagg/spatial/swept_box_grid.hpp"
 
 namespace ballagg {
 namespace {
@@ -50,6 +52,12 @@ constexpr double kCandidateReach = 2.0;
 constexpr std::int64_t kFirstRetreatPiece = 8;
 constexpr std::int64_t kRetreatPieceGrowth = 4;
 
+// From this many clusters a group's partners are found among the clusters whose swept
+// boxes share a cell (swept_box_grid.hpp) rather than by testing every pair of its
+// clusters: the same partners, for a cost that follows the group's size instead of its
+// square.
+constexpr std::size_t kPartnerGridClusters = 256;
+
 namespace {
 
 // The search of one retreat, in named steps: which clusters of the group each retreating
@@ -88,6 +96,7 @@ class RetreatSearch {
 
   void list_small_clusters();
   void list_retreating();
+  void list_partners();
   bool can_meet(std::size_t k, std::size_t m) const;
   void consider(Found& out, int i, int j, int bj) const;
   void look_around(Found& out, int i, std::size_t k, double from) const;
@@ -152,18 +161,51 @@ void RetreatSearch<D>::list_small_clusters() {
 // The partners of each queried cluster, and its spheres, which retreat.
 template <int D>
 void RetreatSearch<D>::list_retreating() {
-  partners_.resize(clusters_.size());
   outside_searched_.resize(clusters_.size());
   for (std::size_t k = 0; k < clusters_.size(); ++k) outside_searched_[k] = searched_against_outside(s_, clusters_[k].first);
+  list_partners();
   for (std::size_t k = 0; k < clusters_.size(); ++k) {
     const int c = clusters_[k].first;
-    if (!queried_(c)) continue;
-    for (std::size_t m = 0; m < clusters_.size(); ++m)
-      if (m != k && can_meet(k, m)) partners_[k].push_back(m);
-    for (int i : s_.clusters[c].members) retreating_.push_back({i, static_cast<std::int32_t>(k)});
+    if (queried_(c))
+      for (int i : s_.clusters[c].members) retreating_.push_back({i, static_cast<std::int32_t>(k)});
   }
   // A large group's searches are shared among the threads.
   parallel_ = static_cast<std::int64_t>(retreating_.size()) >= kParallelLoopMin;
+}
+
+// The clusters of the group each queried cluster can meet (can_meet), in increasing order.
+// In a large group, only those whose swept boxes share a cell are tested: the box of a
+// cluster holds its bounding sphere along its way back, widened by a contact distance
+// (more than the half that makes the boxes of two clusters that can meet overlap).
+template <int D>
+void RetreatSearch<D>::list_partners() {
+  const std::size_t n = clusters_.size();
+  partners_.resize(n);
+  auto queried = [&](std::size_t k) { return queried_(clusters_[k].first); };
+  if (n < kPartnerGridClusters) {
+    for (std::size_t k = 0; k < n; ++k)
+      if (queried(k))
+        for (std::size_t m = 0; m < n; ++m)
+          if (m != k && can_meet(k, m)) partners_[k].push_back(m);
+    return;
+  }
+  std::vector<SweptBox<D>> boxes(n);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Vec<D>& from = starts_[k].centre;
+    const Vec<D> to = from - ctx_.flight[clusters_[k].first];
+    const Vec<D> widen = Vec<D>::Constant(starts_[k].radius + contact_reach_);
+    boxes[k] = {Vec<D>(from.cwiseMin(to) - widen), Vec<D>(from.cwiseMax(to) + widen)};
+  }
+  const SweptBoxGrid<D> grid(s_.box, boxes);
+  std::vector<std::int32_t> candidates;
+  for (std::size_t k = 0; k < n; ++k) {
+    if (!queried(k)) continue;
+    candidates.clear();
+    grid.for_each_candidate(k, [&](std::int32_t m) { candidates.push_back(m); });
+    sort_unique(candidates);
+    for (std::int32_t m : candidates)
+      if (static_cast<std::size_t>(m) != k && can_meet(k, static_cast<std::size_t>(m))) partners_[k].push_back(m);
+  }
 }
 
 // Whether clusters k and m of the group can meet: their bounding spheres come within a

@@ -17,6 +17,11 @@ namespace ballagg {
 // the step returns to the start of the step, where no two clusters overlapped. The pairs
 // it leaves touching are links, so the clusters merge and the run goes on.
 //
+// A step that must end (RunGuard::step_must_end: the wall-clock limit, or a signal that has
+// waited) ends its settling at once with that last resort: every cluster back where it
+// was at the start of the step (return_to_start). A settling of a very long step can grow
+// for hours (docs/time_stepping.md, "When the loop gives up").
+//
 // Left apart, such an overlap would outlive the step: neither a minimisation nor a retreat
 // (which goes back at most to the start of the step) could separate it at a later step,
 // and the run would stop making progress. Merged where they are, deep overlaps would be
@@ -37,6 +42,10 @@ void TimeSteppingEngine<D>::settle(const State<D>& s, const std::vector<SpherePa
   std::vector<int> settled;                  // spheres moved by the retreats
   std::vector<SpherePair> contacts;
   while (!retreating.empty()) {
+    if (guard_ != nullptr && guard_->step_must_end()) {
+      return_to_start(s);
+      return;
+    }
     // Every cluster linked to a retreating one in this step retreats with it: where their
     // flights started, they were free of each other.
     for (int c : retreating) {
@@ -63,7 +72,32 @@ void TimeSteppingEngine<D>::settle(const State<D>& s, const std::vector<SpherePa
       bodies_.link(p, s.spheres.cluster[p.i], s.spheres.cluster[p.j]);
 }
 
+// Every cluster back where it was at the start of the step, where no two clusters
+// overlapped, and every body of the step dissolved: the step merges nothing, its clusters
+// stood still for it.
+template <int D>
+void TimeSteppingEngine<D>::return_to_start(const State<D>& s) {
+  GroupSolution<D> back;
+  back.placed_at_contact = true;
+  back.dissolves_bodies = true;
+  back.result.converged = true;
+  for (int c : s.alive_clusters()) {
+    bodies_.dissolve(bodies_.body_of(c));
+    for (int i : s.clusters[c].members) {
+      const Vec<D> shift = -step_shift_[i] - flight_[c];
+      if (shift == Vec<D>::Zero()) continue;
+      back.spheres.push_back(i);
+      back.shift.push_back(shift);
+    }
+  }
+  std::vector<int> moved;
+  apply(s, back, moved);
+  moved_in_step_.insert(moved_in_step_.end(), moved.begin(), moved.end());
+}
+
 template void TimeSteppingEngine<2>::settle(const State<2>&, const std::vector<SpherePair>&);
 template void TimeSteppingEngine<3>::settle(const State<3>&, const std::vector<SpherePair>&);
+template void TimeSteppingEngine<2>::return_to_start(const State<2>&);
+template void TimeSteppingEngine<3>::return_to_start(const State<3>&);
 
 }  // namespace ballagg

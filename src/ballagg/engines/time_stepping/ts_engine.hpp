@@ -98,6 +98,7 @@ class TimeSteppingEngine final : public Engine<D> {
 
   // settle.cpp
   void settle(const State<D>& s, const std::vector<SpherePair>& left);
+  void return_to_start(const State<D>& s);
 
   // What the solvers of the round's groups read of the step.
   StepView<D> view(const State<D>& s) const {
