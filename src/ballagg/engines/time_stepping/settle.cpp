@@ -19,8 +19,8 @@ namespace ballagg {
 //
 // A step that must end (RunGuard::step_must_end: the wall-clock limit, or a signal that has
 // waited) ends its settling at once with that last resort: every cluster back where it
-// was at the start of the step (return_to_start). A settling of a very long step can grow
-// for hours (docs/time_stepping.md, "When the loop gives up").
+// was at the start of the step (return_to_start). A settling of a very long step can go
+// on for many minutes (docs/time_stepping.md, "When the loop gives up").
 //
 // Left apart, such an overlap would outlive the step: neither a minimisation nor a retreat
 // (which goes back at most to the start of the step) could separate it at a later step,
