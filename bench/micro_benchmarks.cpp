@@ -53,8 +53,8 @@ BENCHMARK(BM_CalendarPopRefile)->Arg(1 << 10)->Arg(1 << 16)->Arg(1 << 20);
 // The swept boxes of a settling group of n clusters in 2D (monomers of radius 0.2 at the
 // density of Vf 0.3, each flown 10 in a random direction, as in the long steps of a run of
 // 10^7 discs at dt_factor 0.005): the boxes that may meet each box, through the grid
-// (SweptBoxGrid) or by testing every pair, as the retreat of a group did before it had the
-// grid. Items: boxes.
+// (SweptBoxGrid) or by testing every pair, as a retreat does for a group below
+// kPartnerGridClusters. Items: boxes.
 std::vector<SweptBox<2>> settling_boxes(int n) {
   Random rng(3, RandomPurpose::positions);
   const double side = std::sqrt(n / 2.39);  // 2.39 discs per unit area at Vf 0.3, R = 0.2
