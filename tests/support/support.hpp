@@ -130,6 +130,24 @@ double worst_overlap(const State<D>& s) {
   return s.n_spheres() < 2 ? -1e300 : 1.0 - std::sqrt(closest);
 }
 
+// A sphere that turns back towards its bin while a partner rebuilds its lists: the case
+// where judging a pair by the spheres' present places, not by their bins, misses a
+// collision (engines/event_driven/neighbor_keeper.hpp). Walls, L = 10, radius 0.5, and a
+// skin of kTurningSkin (lists expire at a drift of 0.5):
+//   sphere 0 starts at x = 0.95 moving at -1: it bounces off the wall x = 0 at t = 0.45,
+//     0.45 from its bin, and turns back; its drift reaches 0.5 only at t = 1.4;
+//   sphere 1 starts at x = 3.225 moving at -0.8: its lists expire at t = 0.625, when the
+//     two are 2.05 apart (beyond sigma + skin = 2) but their bins only 1.775.
+// They touch when 3.175 - 1.8 t = 1: kTurningContact, before either rebuilds again
+// (sphere 1 at t = 1.25).
+inline constexpr double kTurningSkin = 1.0;
+inline constexpr double kTurningContact = 2.175 / 1.8;
+template <int D>
+State<D> turning_sphere_and_rebuilt_partner() {
+  return make_state<D>(10, Boundary::walls,
+                       {{vec<D>(0.95, 5, 5), vec<D>(-1, 0, 0)}, {vec<D>(3.225, 5, 5), vec<D>(-0.8, 0, 0)}});
+}
+
 // A config for a small random system.
 inline Config small_config(int dimension, int n, double volume_fraction, Boundary boundary, std::uint64_t seed) {
   Config c;

@@ -1,6 +1,7 @@
 #pragma once
 // Verlet-style lists of *foreign* neighbours: for each sphere, the spheres of other clusters
-// that were within sigma + skin when either of the two clusters last rebuilt its lists.
+// whose bins (where the engine last put them on its cell grid) are within sigma + skin of
+// its own bin. Which pairs belong is the engine's decision (neighbor_keeper.hpp).
 // Spheres of the same cluster never collide (clusters are rigid), so they are never listed.
 //
 // Each cluster also keeps its "exposed" spheres: those with at least one foreign neighbour.

@@ -410,6 +410,29 @@ void same_run_whatever_is_kept(Config c, const CollisionSettings& law, const Sto
   EXPECT_GT(one.count("pair_predictions"), all.count("pair_predictions"));  // the refills
 }
 
+template <int D>
+void meets_after_turning_back(CollisionOutcome outcome) {
+  State<D> s = testing::turning_sphere_and_rebuilt_partner<D>();
+  Recorder<D> rec;
+  rec.check = [](const State<D>& st, const EventRecord&) { EXPECT_LE(worst_overlap(st), 1e-9) << "t = " << st.time; };
+  const CollisionSettings law{outcome, 1.0, 0.0};
+  const RunResult r = make_event_driven_engine<D>({law, testing::kTurningSkin})->run(s, until(1.3), rec);
+  EXPECT_EQ(r.counters.wall_bounces, 1);
+  const auto rebuilds = rec.of_kind(EventKind::list_rebuild);
+  ASSERT_FALSE(rebuilds.empty());
+  EXPECT_DOUBLE_EQ(rebuilds[0].time, 0.625);  // sphere 1's, as the scenario needs
+  const auto hits = rec.of_kind(EventKind::collision);
+  ASSERT_EQ(hits.size(), 1u);
+  EXPECT_NEAR(hits[0].time, testing::kTurningContact, 1e-12);
+}
+
+TEST(EventDrivenLists, ASphereTurningBackMeetsAPartnerThatRebuiltWhileItWasAway) {
+  for (CollisionOutcome outcome : {CollisionOutcome::stick, CollisionOutcome::bounce}) {
+    meets_after_turning_back<2>(outcome);
+    meets_after_turning_back<3>(outcome);
+  }
+}
+
 TEST(EventDrivenKeptEvents, KeepingOnlyTheEarliestEventsChangesNoResult) {
   StopCriteria to_one;
   StopCriteria until_20 = until(20.0);

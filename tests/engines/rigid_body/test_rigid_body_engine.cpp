@@ -408,6 +408,28 @@ TEST(RigidBodyEngine, NoOverlapThroughThousandsOfBouncesAndMergesOfSpinningBodie
   EXPECT_LT(worst, 1e-9);
 }
 
+template <int D>
+void rigid_meets_after_turning_back() {
+  State<D> s = testing::turning_sphere_and_rebuilt_partner<D>();
+  Watcher<D> watch;
+  watch.check = [](const State<D>& st, const EventRecord&) {
+    EXPECT_LE(testing::worst_overlap(st), 1e-9) << "t = " << st.time;
+  };
+  RigidBodySettings settings;
+  settings.skin = testing::kTurningSkin;
+  StopCriteria stop;
+  stop.clusters = 0;
+  stop.time = 1.3;
+  run_rigid(s, settings, stop, watch);
+  ASSERT_EQ(watch.collisions.size(), 1u);
+  EXPECT_NEAR(watch.collisions[0].time, testing::kTurningContact, 1e-9);
+}
+
+TEST(RigidBodyEngine, ASphereTurningBackMeetsAPartnerThatRebuiltWhileItWasAway) {
+  rigid_meets_after_turning_back<2>();
+  rigid_meets_after_turning_back<3>();
+}
+
 TEST(RigidBodyEngine, PeriodicRunConservesMomentum) {
   State<3> s = random_gas<3>(300, 0.05, Boundary::periodic, 9);
   const Vec<3> p0 = s.momentum();

@@ -4,7 +4,7 @@
 //   list_rebuild  a cluster may have moved half the skin: its neighbour lists expire.
 //
 // What must be re-predicted when a cluster's velocity changes? Only the pairs formed by
-// its *exposed* spheres (those with foreign neighbours within sigma + skin) and its own
+// its *exposed* spheres (those with foreign neighbours in their lists) and its own
 // wall and rebuild times. Its partners' other predictions stay valid: a stale event is
 // recognised by its stamps when it reaches the top of the queue. Positions are evaluated
 // lazily from each cluster's anchor, so moving a cluster costs nothing.
@@ -64,7 +64,7 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) keeper_.reset(c, s_.time);
     for (int i = 0; i < n; ++i)
-      for_each_foreign_near(i, s_.time, [&](int j) { return j > i; },
+      for_each_foreign_near(i, [&](int j) { return j > i; },
                             [&](int j) { lists_.add_pair(i, j, s_.spheres.cluster.data()); });
     for (int c : s_.alive_clusters()) keeper_.renew_expiry(c);
     for (int c = 0; c < m; ++c)
@@ -135,42 +135,40 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
 
   // ---- neighbour lists -------------------------------------------------------------------
 
-  // Calls found(j) for every foreign sphere j within sigma + skin of sphere i at time t
-  // for which wanted(j) holds (neighbor_keeper.hpp).
+  // Calls found(j) for every foreign sphere j whose bin is within sigma + skin of sphere
+  // i's bin, for which wanted(j) holds (neighbor_keeper.hpp).
   template <class Wanted, class Found>
-  void for_each_foreign_near(int i, double t, Wanted&& wanted, Found&& found) const {
-    const Vec<D> xi = unwrapped_position(i, t);
+  void for_each_foreign_near(int i, Wanted&& wanted, Found&& found) const {
     ballagg::for_each_foreign_near(
-        grid_, s_, keeper_.skin(), sphere_[i].cluster, s_.box.wrap(xi), sphere_[i].radius, wanted,
-        [&](int j) { return within_reach(i, xi, j, t); }, found);
+        grid_, s_, keeper_.skin(), sphere_[i].cluster, grid_.binned(i), sphere_[i].radius, wanted,
+        [&](int j) { return sphere_[j].radius; }, found);
   }
 
-  bool within_reach(int i, const Vec<D>& xi, int j, double t) const {
-    const double reach = sphere_[i].radius + sphere_[j].radius + keeper_.skin();
-    return s_.box.separation(xi, unwrapped_position(j, t)).squaredNorm() < reach * reach;
+  bool bins_within_reach(int i, int j) const {
+    return ballagg::bins_within_reach(s_.box, grid_.binned(i), grid_.binned(j), sphere_[i].radius,
+                                      sphere_[j].radius, keeper_.skin());
   }
 
   EventRecord rebuild(int c, double t) {
     const std::int32_t* cluster = s_.spheres.cluster.data();
     const Cluster<D>& k = s_.clusters[c];
-    // Drop the pairs that are now out of reach. Removal swaps the last entry of a list
-    // into the hole, so walking each list from its end visits every entry once.
+    for (int i : k.members) grid_.move(i, s_.box.wrap(unwrapped_position(i, t)));
+    // Drop the pairs now out of reach. Removal swaps the last entry of a list into the
+    // hole, so walking each list from its end visits every entry once.
     for (auto e = static_cast<std::ptrdiff_t>(lists_.exposed(c).size()) - 1; e >= 0; --e) {
       const int i = lists_.exposed(c)[e];
-      prefetch_partners(i);
-      const Vec<D> xi = unwrapped_position(i, t);
+      prefetch_bins(i);
       for (auto p = static_cast<std::ptrdiff_t>(lists_.partners(i).size()) - 1; p >= 0; --p) {
         const int j = lists_.partners(i)[p];
-        if (!within_reach(i, xi, j, t)) lists_.remove_pair(i, j, cluster);
+        if (!bins_within_reach(i, j)) lists_.remove_pair(i, j, cluster);
       }
     }
-    // Re-bin, then list and predict the pairs that came into reach.
-    for (int i : k.members) grid_.move(i, s_.box.wrap(unwrapped_position(i, t)));
+    // List and predict the pairs that came into reach.
     keeper_.reset(c, t);
     keeper_.renew_expiry(c);
     batch_.clear();
     for (int i : k.members) {
-      for_each_foreign_near(i, t, [&](int j) { return !lists_.listed(i, j); }, [&](int j) {
+      for_each_foreign_near(i, [&](int j) { return !lists_.listed(i, j); }, [&](int j) {
         lists_.add_pair(i, j, cluster);
         if (auto e = pair_event(i, j)) batch_.push_back(*e);
       });
@@ -194,6 +192,14 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
       const int d = sphere_[j].cluster;
       prefetch(&s_.clusters[d]);
       prefetch(keeper_.expiry_address(d));
+    }
+  }
+
+  // The same for the bins and radii of sphere i's partners, which a list rebuild reads.
+  void prefetch_bins(int i) const {
+    for (int j : lists_.partners(i)) {
+      prefetch(&grid_.binned(j));
+      prefetch(&sphere_[j]);
     }
   }
 

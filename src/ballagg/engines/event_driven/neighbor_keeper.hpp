@@ -1,10 +1,15 @@
 #pragma once
 // When the neighbour lists of a cluster expire. Each sphere lists the spheres of other
-// clusters within sigma + skin of it, found on a cell grid that holds every sphere where it
-// was binned. A pair absent from the lists was farther apart than sigma + skin at the later
-// of its two clusters' last rebuilds; as long as each of its spheres has moved less than
-// skin / 2 since it was binned (its drift), the pair is still apart. So a cluster rebuilds
-// its lists (and re-bins its spheres) when its drift may reach skin / 2.
+// clusters whose bins are within sigma + skin of its own: a sphere's bin is where it was
+// put on the cell grid at its cluster's last rebuild. As long as every sphere stays within
+// skin / 2 of its bin (its drift), a pair absent from the lists is at least sigma apart, so
+// it cannot touch. A cluster therefore rebuilds its lists (and re-bins its spheres) when
+// its drift may reach skin / 2.
+//
+// The test is between bins, not between present places. A sphere that has drifted d
+// from its bin and turns back (a wall, a bounce, a merge) may later be skin / 2 from its
+// bin on the other side: it comes up to d + skin / 2 closer to a partner than it was when
+// the partner rebuilt. Measured from its bin, it never comes closer than skin / 2.
 //
 // The drift is bounded per cluster by a drift bound (the template parameter Bound), which
 // keeps one Record per cluster and answers:
@@ -27,19 +32,15 @@
 
 namespace ballagg {
 
-// A sphere is at most skin / 2 from where it was binned, and a listed pair is closer than
-// sigma + skin: the grid must find every sphere binned within sigma + kBinnedReachInSkins
-// skin of a sphere's present place (one skin of list reach, half a skin of the partner's
-// drift). The grid's cells are therefore 2 R_max + kBinnedReachInSkins skin wide.
-inline constexpr double kBinnedReachInSkins = 1.5;
-
-// In a periodic box every listed pair must be closer than half the box (one image of each
-// partner), so the grid's reach 2 R_max + kBinnedReachInSkins skin is kept below L / 2
-// with this margin.
+// In a periodic box the bins of a listed pair must have one nearest image: sigma + skin
+// below L / 2. The skin is kept so that 2 R_max + kPeriodicReachInSkins skin, that reach
+// with half a skin to spare, stays below L / 2 by the margin kPeriodicSkinMargin; the
+// configuration's check of the box size (docs/hardening.md) is written for this limit.
+inline constexpr double kPeriodicReachInSkins = 1.5;
 inline constexpr double kPeriodicSkinMargin = 0.99;
 
 // The requested skin (> 0), or the engine's default, shrunk to what a periodic box allows:
-// kPeriodicSkinMargin (L / 2 - 2 R_max) / kBinnedReachInSkins. The event-driven engine
+// kPeriodicSkinMargin (L / 2 - 2 R_max) / kPeriodicReachInSkins. The event-driven engine
 // divides first, the rigid-body engine multiplies first; the two may differ in the last
 // bit, and each engine keeps the rounding its results are computed with.
 enum class SkinLimitRounding { divide_first, multiply_first };
@@ -49,35 +50,45 @@ double fitted_skin(const State<D>& s, double requested, double fallback, SkinLim
   if (!s.box.periodic()) return skin;
   const double space = 0.5 * s.box.length - 2.0 * s.max_radius();
   const double limit = rounding == SkinLimitRounding::divide_first
-                           ? kPeriodicSkinMargin * (space / kBinnedReachInSkins)
-                           : kPeriodicSkinMargin * space / kBinnedReachInSkins;
+                           ? kPeriodicSkinMargin * (space / kPeriodicReachInSkins)
+                           : kPeriodicSkinMargin * space / kPeriodicReachInSkins;
   return std::min(skin, limit);
 }
 
 // The width of the grid's cells for this skin and spheres of radius at most
-// `largest_radius`.
-inline double binning_cell_size(double largest_radius, double skin) {
-  return 2.0 * largest_radius + kBinnedReachInSkins * skin;
-}
+// `largest_radius`. A listed pair's bins are closer than sigma + skin, and every query is
+// made from a sphere's bin: a cell that wide holds every partner in the 3^D cells around.
+inline double binning_cell_size(double largest_radius, double skin) { return 2.0 * largest_radius + skin; }
 template <int D>
 double binning_cell_size(const State<D>& s, double skin) {
   return binning_cell_size(s.max_radius(), skin);
 }
 
-// Calls found(j) for every sphere j of another cluster than ci that within_reach(j) puts
-// in reach of the sphere at x (folded into the box: `folded`) whose radius is ri, and for
-// which wanted(j) holds (asked first: the exact distance is dearer). The grid tags each
-// sphere with its cluster, so ci is skipped there; spheres binned farther than
-// ri + R_max + kBinnedReachInSkins skin away are rejected at once.
-template <int D, class Wanted, class WithinReach, class Found>
-void for_each_foreign_near(const CellGrid<D>& grid, const State<D>& s, double skin, int ci, const Vec<D>& folded,
-                           double ri, Wanted&& wanted, WithinReach&& within_reach, Found&& found) {
-  const double binned_reach = ri + s.max_radius() + kBinnedReachInSkins * skin;
-  grid.for_each_near_image(folded, ci, [&](int j, const Vec<D>& binned) {
-    if ((folded - binned).squaredNorm() >= binned_reach * binned_reach) return;
+// Calls found(j) for every sphere j of another cluster than ci whose bin lies within
+// ri + radius_of(j) + skin of `bin` (the bin of the querying sphere, of radius ri), and for
+// which wanted(j) holds. The grid tags each sphere with its cluster, so ci is skipped
+// there; bins farther than ri + R_max + skin are rejected before anything else is read,
+// and wanted(j) is asked before radius_of(j).
+template <int D, class Wanted, class RadiusOf, class Found>
+void for_each_foreign_near(const CellGrid<D>& grid, const State<D>& s, double skin, int ci, const Vec<D>& bin,
+                           double ri, Wanted&& wanted, RadiusOf&& radius_of, Found&& found) {
+  const double widest = ri + s.max_radius() + skin;
+  grid.for_each_near_image(bin, ci, [&](int j, const Vec<D>& bin_j) {
+    const double gap2 = (bin - bin_j).squaredNorm();
+    if (gap2 >= widest * widest) return;
     if (!wanted(j)) return;
-    if (within_reach(j)) found(j);
+    const double reach = ri + radius_of(j) + skin;
+    if (gap2 < reach * reach) found(j);
   });
+}
+
+// Whether the pair with bins bin_i and bin_j (any images: the shortest is taken) and radii
+// ri and rj belongs in the lists.
+template <int D>
+bool bins_within_reach(const Box<D>& box, const Vec<D>& bin_i, const Vec<D>& bin_j, double ri, double rj,
+                       double skin) {
+  const double reach = ri + rj + skin;
+  return box.separation(bin_i, bin_j).squaredNorm() < reach * reach;
 }
 
 // The skin, each cluster's drift record and its list expiry.

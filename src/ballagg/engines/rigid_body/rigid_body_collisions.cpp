@@ -119,8 +119,8 @@ int RigidBodyCore<D>::stick(int i, int j, double t) {
   for (auto m = members.end() - absorbed; m != members.end(); ++m) {
     const int k = *m;
     grid_->move(k, s_.box.wrap(unwrapped_position(k, t)));
-    drop_out_of_reach(k, t);
-    for_each_foreign_near(k, t, [&](int j2) { return !lists_.listed(k, j2); }, [&](int j2) { lists_.add_pair(k, j2, cluster); });
+    drop_out_of_reach(k);
+    for_each_foreign_near(k, [&](int j2) { return !lists_.listed(k, j2); }, [&](int j2) { lists_.add_pair(k, j2, cluster); });
   }
   forget_pose(keep);
   forget_pose(gone);
@@ -238,7 +238,7 @@ void RigidBodyCore<D>::attach_sphere(int i, double t) {
   grid_->set_tag(i, body_of(i));
   grid_->insert(i, s_.box.wrap(unwrapped_position(i, t)));
   const std::int32_t* cluster = s_.spheres.cluster.data();
-  for_each_foreign_near(i, t, [&](int j) { return !lists_.listed(i, j); }, [&](int j) { lists_.add_pair(i, j, cluster); });
+  for_each_foreign_near(i, [&](int j) { return !lists_.listed(i, j); }, [&](int j) { lists_.add_pair(i, j, cluster); });
 }
 
 template <int D>
@@ -259,7 +259,7 @@ void RigidBodyCore<D>::fragment(int c, double released, double t) {
     free_mass_ += s_.spheres.mass[i];
   }
   for (int i : members)
-    for_each_foreign_near(i, t, [&](int j) { return !lists_.listed(i, j); }, [&](int j) { lists_.add_pair(i, j, cluster); });
+    for_each_foreign_near(i, [&](int j) { return !lists_.listed(i, j); }, [&](int j) { lists_.add_pair(i, j, cluster); });
   for (int b : pieces) keeper_.renew_expiry(b);  // each piece's predictions see the others'
   for (int b : pieces) predict(b);
 }

@@ -144,22 +144,21 @@ class RigidBodyCore : public CalendarDispatch<RigidBodyCore<D>> {
 
   double spin_bound(int c) const { return keeper_.bound().spin_bound(c); }
 
-  // Calls found(j) for every foreign sphere j within sigma + skin of sphere i at time t
-  // for which wanted(j) holds (engines/event_driven/neighbor_keeper.hpp).
+  // Calls found(j) for every foreign sphere j whose bin is within sigma + skin of sphere
+  // i's bin, for which wanted(j) holds (engines/event_driven/neighbor_keeper.hpp).
   template <class Wanted, class Found>
-  void for_each_foreign_near(int i, double t, Wanted&& wanted, Found&& found) {
-    const Vec<D> xi = unwrapped_position(i, t);
+  void for_each_foreign_near(int i, Wanted&& wanted, Found&& found) {
     ballagg::for_each_foreign_near(
-        *grid_, s_, keeper_.skin(), body_of(i), s_.box.wrap(xi), s_.spheres.radius[i], wanted,
-        [&](int j) { return within_reach(i, xi, j, t); }, found);
+        *grid_, s_, keeper_.skin(), body_of(i), grid_->binned(i), s_.spheres.radius[i], wanted,
+        [&](int j) { return s_.spheres.radius[j]; }, found);
   }
-  // Whether the pair (i, j) belongs in the lists at time t: closer than sigma + skin. A
-  // sphere of a spinning aggregate is not located (that would cost an orientation): it is
-  // within its body's drift of where it was binned, and the pair is kept unless even the
-  // nearest point of that ball is out of reach. Listing a pair that is a little farther
-  // costs a prediction; dropping one only when it is surely out of reach keeps the lists
-  // valid.
-  bool within_reach(int i, const Vec<D>& xi, int j, double t);
+  // Whether the pair (i, j) belongs in the lists: bins closer than sigma + skin. Bins,
+  // not present places: a sphere of a spinning aggregate is not located (that would cost
+  // an orientation), and every sphere stays within its body's drift of its bin.
+  bool bins_within_reach(int i, int j) const {
+    return ballagg::bins_within_reach(s_.box, grid_->binned(i), grid_->binned(j), s_.spheres.radius[i],
+                                      s_.spheres.radius[j], keeper_.skin());
+  }
 
   // Grid, lists, drifts and every prediction from scratch (start, and when coalescence
   // grows a sphere beyond the radius the grid was built for).
@@ -174,9 +173,9 @@ class RigidBodyCore : public CalendarDispatch<RigidBodyCore<D>> {
     return std::exp2(std::ceil(std::log2(s_.max_radius())));
   }
 
-  // Drops the pairs of sphere i that are out of reach at time t. Removal swaps the last
+  // Drops the pairs of sphere i whose bins are out of reach. Removal swaps the last
   // partner into the hole, so walking the list from its end visits every entry once.
-  void drop_out_of_reach(int i, double t);
+  void drop_out_of_reach(int i);
 
   EventRecord rebuild(int c, double t);
 

@@ -7,9 +7,10 @@
 //                   which rotates (or of a rotating body and a wall);
 //   list_rebuild    a body may have moved half the skin: its neighbour lists expire.
 //
-// Detection (§2.3). Each sphere lists the spheres of other bodies within sigma + skin
-// (spatial/neighbor_lists.hpp, as in the event-driven engine); a sphere's drift bounds its
-// body's translation plus the rotation of its lever arm. Two bodies can only touch through
+// Detection (§2.3). Each sphere lists the spheres of other bodies whose bins (where they
+// were put on the cell grid) are within sigma + skin of its own, as in the event-driven
+// engine (engines/event_driven/neighbor_keeper.hpp); a sphere's drift from its bin is
+// bounded by its body's translation plus the rotation of its lever arm. Two bodies can only touch through
 // listed pairs. If neither rotates (single spheres, or no spin) their pairs' contact times
 // are exact roots (eq. A.3 of Degond et al.) as in `ed`. Otherwise the bounding spheres of
 // radius R_max (7) are tested first, and then the listed pairs sphere by sphere on the

@@ -5,15 +5,6 @@
 namespace ballagg {
 
 template <int D>
-bool RigidBodyCore<D>::within_reach(int i, const Vec<D>& xi, int j, double t) {
-  const double reach = s_.spheres.radius[i] + s_.spheres.radius[j] + keeper_.skin();
-  const int d = body_of(j);
-  if (bodies_.translates(s_, d)) return s_.box.separation(xi, unwrapped_position(j, t)).squaredNorm() < reach * reach;
-  const double nearest = s_.box.separation(xi, grid_->binned(j)).norm() - keeper_.drift(d, t);
-  return nearest < reach;
-}
-
-template <int D>
 void RigidBodyCore<D>::build_spatial() {
   const int n = s_.n_spheres();
   const int m = static_cast<int>(s_.clusters.size());
@@ -31,33 +22,32 @@ void RigidBodyCore<D>::build_spatial() {
   }
   for (int c : s_.alive_clusters()) keeper_.reset(c, t);
   for (int i = 0; i < n; ++i)
-    for_each_foreign_near(i, t, [&](int j) { return j > i; }, [&](int j) { lists_.add_pair(i, j, s_.spheres.cluster.data()); });
+    for_each_foreign_near(i, [&](int j) { return j > i; }, [&](int j) { lists_.add_pair(i, j, s_.spheres.cluster.data()); });
   for (int c : s_.alive_clusters()) keeper_.renew_expiry(c);
   for (int c : s_.alive_clusters()) predict(c, /*skip_lower_bodies=*/true);
 }
 
 template <int D>
-void RigidBodyCore<D>::drop_out_of_reach(int i, double t) {
-  const Vec<D> xi = unwrapped_position(i, t);
+void RigidBodyCore<D>::drop_out_of_reach(int i) {
   for (auto p = static_cast<std::ptrdiff_t>(lists_.partners(i).size()) - 1; p >= 0; --p) {
     const int j = lists_.partners(i)[p];
-    if (!within_reach(i, xi, j, t)) lists_.remove_pair(i, j, s_.spheres.cluster.data());
+    if (!bins_within_reach(i, j)) lists_.remove_pair(i, j, s_.spheres.cluster.data());
   }
 }
 
 template <int D>
 EventRecord RigidBodyCore<D>::rebuild(int c, double t) {
   const std::int32_t* cluster = s_.spheres.cluster.data();
-  for (auto e = static_cast<std::ptrdiff_t>(lists_.exposed(c).size()) - 1; e >= 0; --e)
-    drop_out_of_reach(lists_.exposed(c)[e], t);
   for (int i : s_.clusters[c].members) grid_->move(i, s_.box.wrap(unwrapped_position(i, t)));
+  for (auto e = static_cast<std::ptrdiff_t>(lists_.exposed(c).size()) - 1; e >= 0; --e)
+    drop_out_of_reach(lists_.exposed(c)[e]);
   keeper_.reset(c, t);
   // Predictions already filed stay valid (exact contact times, or searches that look at
   // the lists when they run). The pairs that came into reach need predictions, and so
   // do the rotating partners, whose last search may have stopped at the old expiry.
   pairs_.clear();
   for (int i : s_.clusters[c].members) {
-    for_each_foreign_near(i, t, [&](int j) { return !lists_.listed(i, j); }, [&](int j) {
+    for_each_foreign_near(i, [&](int j) { return !lists_.listed(i, j); }, [&](int j) {
       lists_.add_pair(i, j, cluster);
       pairs_.push_back({body_of(j), i, j});
     });
@@ -78,12 +68,10 @@ EventRecord RigidBodyCore<D>::rebuild(int c, double t) {
   return {.time = t, .kind = EventKind::list_rebuild, .cluster = c};
 }
 
-template bool RigidBodyCore<2>::within_reach(int, const Vec<2>&, int, double);
-template bool RigidBodyCore<3>::within_reach(int, const Vec<3>&, int, double);
 template void RigidBodyCore<2>::build_spatial();
 template void RigidBodyCore<3>::build_spatial();
-template void RigidBodyCore<2>::drop_out_of_reach(int, double);
-template void RigidBodyCore<3>::drop_out_of_reach(int, double);
+template void RigidBodyCore<2>::drop_out_of_reach(int);
+template void RigidBodyCore<3>::drop_out_of_reach(int);
 template EventRecord RigidBodyCore<2>::rebuild(int, double);
 template EventRecord RigidBodyCore<3>::rebuild(int, double);
 
