@@ -18,14 +18,16 @@ struct Case {
   int n;
   double volume_fraction;
   std::uint64_t seed;
+  double restitution = 0.8;
+  double bounce_until = 15.0;
 };
 
 template <int D>
 void expect_same_history(const Case& k) {
   Config c = testing::small_config(D, k.n, k.volume_fraction, k.boundary, k.seed);
   StopCriteria stop;
-  if (k.outcome == CollisionOutcome::bounce) stop.time = 15.0;
-  const CollisionSettings law{k.outcome, 0.8, 0.0};
+  if (k.outcome == CollisionOutcome::bounce) stop.time = k.bounce_until;
+  const CollisionSettings law{k.outcome, k.restitution, 0.0};
   State<D> fast = make_initial_state<D>(c), naive = make_initial_state<D>(c);
   Recorder<D> fast_events, naive_events;
   run_engine(fast, "ed", law, stop, &fast_events);
@@ -49,6 +51,14 @@ TEST(EnginesAgree, SameMergeSequence3DWalls) { expect_same_history<3>({3, Bounda
 TEST(EnginesAgree, SameMergeSequence3DPeriodic) { expect_same_history<3>({3, Boundary::periodic, CollisionOutcome::stick, 150, 0.1, 4}); }
 TEST(EnginesAgree, SameBounceSequence2D) { expect_same_history<2>({2, Boundary::walls, CollisionOutcome::bounce, 80, 0.2, 5}); }
 TEST(EnginesAgree, SameBounceSequence3DPeriodic) { expect_same_history<3>({3, Boundary::periodic, CollisionOutcome::bounce, 80, 0.2, 6}); }
+// An elastic gas keeps its speeds: spheres turn back again and again, each time from
+// wherever its lists' drift has carried it (engines/event_driven/neighbor_keeper.hpp).
+TEST(EnginesAgree, SameElasticSequence2DWalls) {
+  expect_same_history<2>({2, Boundary::walls, CollisionOutcome::bounce, 200, 0.3, 7, 1.0, 40.0});
+}
+TEST(EnginesAgree, SameElasticSequence3DPeriodic) {
+  expect_same_history<3>({3, Boundary::periodic, CollisionOutcome::bounce, 120, 0.3, 8, 1.0, 10.0});
+}
 
 }  // namespace
 }  // namespace ballagg
