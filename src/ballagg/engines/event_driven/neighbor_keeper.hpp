@@ -9,7 +9,8 @@
 // The test is between bins, not between present places. A sphere that has drifted d
 // from its bin and turns back (a wall, a bounce, a merge) may later be skin / 2 from its
 // bin on the other side: it comes up to d + skin / 2 closer to a partner than it was when
-// the partner rebuilt. Measured from its bin, it never comes closer than skin / 2.
+// the partner rebuilt. It never strays more than skin / 2 from its bin, so the test
+// measures from there.
 //
 // The drift is bounded per cluster by a drift bound (the template parameter Bound), which
 // keeps one Record per cluster and answers:
