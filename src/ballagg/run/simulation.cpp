@@ -1,7 +1,20 @@
 #include "ballagg/run/simulation.hpp"
 
 #include <unistd.h>
-#if defined(__GLIBC__)
+
+// The heap is trimmed with glibc's malloc_trim. Under AddressSanitizer glibc's allocator
+// is never used, so the first malloc_trim sets its arena up; two runs of a sweep that end
+// together race in that set-up, and one walks a half-initialised arena (a null chunk).
+// There the trim is left out: the memory belongs to the sanitizer's allocator anyway.
+#if defined(__SANITIZE_ADDRESS__)
+#define BALLAGG_ADDRESS_SANITIZER 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define BALLAGG_ADDRESS_SANITIZER 1
+#endif
+#endif
+#if defined(__GLIBC__) && !defined(BALLAGG_ADDRESS_SANITIZER)
+#define BALLAGG_TRIM_HEAP 1
 #include <malloc.h>
 #endif
 
@@ -354,7 +367,7 @@ std::string run_in_dimension(const Config& given, const RunOptions& options, con
   // glibc keeps the heap the engine freed (hundreds of bytes per sphere, in blocks below
   // its mmap threshold) resident in the process; giving it back to the system before the
   // output files are written keeps that phase's peak memory to what it uses.
-#if defined(__GLIBC__)
+#if defined(BALLAGG_TRIM_HEAP)
   malloc_trim(0);
 #endif
   write_run_files(dir, config, engine_name, initial, state, result, timeseries.csv());
