@@ -1,6 +1,7 @@
 // The pool of short lists behind the event calendar and the neighbour lists: each owner's
 // values survive growth, shrinking and the other owners' changes; freed blocks are reused
-// (also when the last owner leaves); binary-heap operations
+// (also when the last owner leaves); appending one owner's list to another's and swapping
+// two owners' lists keep every value in order; binary-heap operations
 // on a pooled list give the same arrangement as on a std::vector; sizes beyond the limit
 // are refused.
 #include <gtest/gtest.h>
@@ -141,6 +142,37 @@ TEST(PooledLists, RandomOperationsMatchVectors) {
     ASSERT_EQ(values(pool, o), ref[o]) << "step " << step;
   }
   for (int o = 0; o < 50; ++o) EXPECT_EQ(values(pool, o), ref[o]);
+}
+
+TEST(PooledLists, AppendingAndSwappingOwnersMatchVectors) {
+  PooledLists<int, 3> pool;  // chunks of 8: long lists take blocks of their own
+  std::vector<std::vector<int>> ref(20);
+  pool.reset(20);
+  Random rng(5, RandomPurpose::positions);
+  for (int step = 0; step < 5000; ++step) {
+    const int a = static_cast<int>(rng.uniform(0.0, 20.0));
+    const int b = static_cast<int>(rng.uniform(0.0, 20.0));
+    const double what = rng.uniform();
+    if (what < 0.5) {
+      const int x = step;
+      pool.push_back(a, x);
+      ref[a].push_back(x);
+    } else if (what < 0.7 && a != b) {
+      pool.append_owner(a, b);
+      ref[a].insert(ref[a].end(), ref[b].begin(), ref[b].end());
+      ref[b].clear();
+      ASSERT_EQ(pool.capacity(b), 0u) << "the appended owner's block goes back to the pool";
+    } else if (what < 0.9) {
+      pool.swap_owners(a, b);
+      std::swap(ref[a], ref[b]);
+    } else {
+      pool.release(a);
+      ref[a].clear();
+    }
+    ASSERT_EQ(values(pool, a), ref[a]) << "step " << step;
+    ASSERT_EQ(values(pool, b), ref[b]) << "step " << step;
+  }
+  for (int o = 0; o < 20; ++o) EXPECT_EQ(values(pool, o), ref[o]);
 }
 
 TEST(PooledLists, HeapOperationsGiveTheVectorsArrangement) {

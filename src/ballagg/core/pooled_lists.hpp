@@ -28,6 +28,7 @@
 #include <memory>
 #include <stdexcept>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 namespace ballagg {
@@ -96,6 +97,20 @@ class PooledLists {
     if (s.cls != 0) free_block(s.offset, s.cls);
     s = Slot{};
   }
+  // Appends owner from's values, in order, to owner to's list (from != to), in one copy,
+  // and releases from's block.
+  void append_owner(int to, int from) {
+    Slot& t = slot_[to];
+    const Slot f = slot_[from];
+    const std::size_t n = std::size_t{t.count} + f.count;
+    if (n > capacity_of(t.cls)) move_to_class(t, class_for(n));
+    if (f.count != 0) std::memcpy(static_cast<void*>(block(t) + t.count), block(f), f.count * sizeof(T));
+    t.count = static_cast<std::uint32_t>(n);
+    release(from);
+  }
+  // Owners a and b exchange their lists; no value moves.
+  void swap_owners(int a, int b) { std::swap(slot_[a], slot_[b]); }
+
   // Releases the last owner and removes it: owners stay dense when one leaves for good.
   void pop_owner() {
     release(owners() - 1);

@@ -4,6 +4,10 @@
 // and the connected groups of bodies they join (each an independent minimisation problem),
 // kept by union–find as pairs are added, each root holding the lists of its bodies and
 // pairs. Bodies are named by a cluster id (step_bodies.hpp); clearing costs the size of S.
+//
+// The lists are sized for every cluster id but held by the few roots: they live in pools
+// (core/pooled_lists.hpp), 8 bytes per id and list, where a std::vector per id would cost
+// its 24-byte header and keep the block of every list it ever held.
 #include <algorithm>
 #include <cstdint>
 #include <vector>
@@ -11,6 +15,7 @@
 #include "ballagg/core/disjoint_sets.hpp"
 #include "ballagg/core/pair_index.hpp"
 #include "ballagg/core/parallel.hpp"
+#include "ballagg/core/pooled_lists.hpp"
 #include "ballagg/core/prefetch.hpp"
 
 namespace ballagg {
@@ -35,9 +40,20 @@ struct CollisionGroup {
 
 class AdhesiveSet {
  public:
-  explicit AdhesiveSet(int n_cluster_ids = 0)
-      : sets_(n_cluster_ids), clusters_of_(n_cluster_ids), pairs_of_(n_cluster_ids),
-        touched_mark_(n_cluster_ids, 0), changed_mark_(n_cluster_ids, 0) {}
+  explicit AdhesiveSet(int n_cluster_ids = 0) { reset(n_cluster_ids); }
+
+  // An empty set for n_cluster_ids ids; the pools' memory is released.
+  void reset(int n_cluster_ids) {
+    pairs_ = {};
+    index_ = PairIndex();
+    sets_ = DisjointSets(n_cluster_ids);
+    clusters_of_.reset(n_cluster_ids);
+    pairs_of_.reset(n_cluster_ids);
+    touched_ = {};
+    touched_mark_.assign(n_cluster_ids, 0);
+    changed_ = {};
+    changed_mark_.assign(n_cluster_ids, 0);
+  }
 
   const std::vector<SpherePair>& pairs() const { return pairs_; }
   SpherePair& pair(std::int32_t k) { return pairs_[k]; }
@@ -63,10 +79,10 @@ class AdhesiveSet {
     const int root = sets_.unite(a, b);
     if (a != b) {
       const int other = root == a ? b : a;
-      move_append(clusters_of_[other], clusters_of_[root]);
-      move_append(pairs_of_[other], pairs_of_[root]);
+      move_append(clusters_of_, other, root);
+      move_append(pairs_of_, other, root);
     }
-    pairs_of_[root].push_back(k);
+    pairs_of_.push_back(root, k);
     mark_changed(root);
     return true;
   }
@@ -107,8 +123,8 @@ class AdhesiveSet {
 #pragma omp parallel for schedule(dynamic, 256) if (n >= kParallelLoopMin)
     for (std::int64_t k = 0; k < n; ++k) {
       CollisionGroup& g = unordered[k];
-      g.bodies = clusters_of_[roots[k]];
-      g.pairs = pairs_of_[roots[k]];
+      g.bodies.assign(clusters_of_.begin(roots[k]), clusters_of_.end(roots[k]));
+      g.pairs.assign(pairs_of_.begin(roots[k]), pairs_of_.end(roots[k]));
       std::sort(g.bodies.begin(), g.bodies.end());
       std::sort(g.pairs.begin(), g.pairs.end());
       order[k] = {g.bodies.front(), static_cast<std::int32_t>(k)};
@@ -123,8 +139,8 @@ class AdhesiveSet {
   void clear() {
     for (int c : touched_) {
       sets_.reset(c);
-      clusters_of_[c].clear();
-      pairs_of_[c].clear();
+      clusters_of_.release(c);
+      pairs_of_.release(c);
       touched_mark_[c] = 0;
     }
     touched_.clear();
@@ -138,24 +154,24 @@ class AdhesiveSet {
     if (touched_mark_[c]) return;
     touched_mark_[c] = 1;
     touched_.push_back(c);
-    clusters_of_[c].push_back(c);
+    clusters_of_.push_back(c, c);
   }
   void mark_changed(int root) {
     if (changed_mark_[root]) return;
     changed_mark_[root] = 1;
     changed_.push_back(root);
   }
-  static void move_append(std::vector<std::int32_t>& from, std::vector<std::int32_t>& to) {
-    if (from.size() > to.size()) from.swap(to);
-    to.insert(to.end(), from.begin(), from.end());
-    from.clear();
+  // Moves owner from's list into owner to's, copying the shorter of the two.
+  static void move_append(PooledLists<std::int32_t>& lists, int from, int to) {
+    if (lists.size(from) > lists.size(to)) lists.swap_owners(from, to);
+    lists.append_owner(to, from);
   }
 
   std::vector<SpherePair> pairs_;
   PairIndex index_;
   DisjointSets sets_;
-  std::vector<std::vector<std::int32_t>> clusters_of_;  // per root: the clusters of its group
-  std::vector<std::vector<std::int32_t>> pairs_of_;     // per root: its pairs (indices into pairs_)
+  PooledLists<std::int32_t> clusters_of_;               // per root: the clusters of its group
+  PooledLists<std::int32_t> pairs_of_;                  // per root: its pairs (indices into pairs_)
   std::vector<std::int32_t> touched_;                   // clusters with a pair in S
   std::vector<char> touched_mark_;
   std::vector<std::int32_t> changed_;                   // roots (at the time) of changed groups

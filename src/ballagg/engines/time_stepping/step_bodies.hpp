@@ -9,30 +9,43 @@
 // (its links go back to S): when a later round finds an overlap inside it, or when a
 // minimisation fails and its group is moved back along its flight, where each cluster
 // retreats along its own.
+//
+// The lists per body are sized for every cluster id and held by the few touched ones: they
+// live in pools (core/pooled_lists.hpp), 8 bytes per id and list.
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <utility>
 #include <vector>
 
 #include "ballagg/core/disjoint_sets.hpp"
+#include "ballagg/core/pooled_lists.hpp"
 #include "ballagg/engines/time_stepping/adhesive_set.hpp"
 
 namespace ballagg {
 
 class StepBodies {
  public:
-  explicit StepBodies(int n_cluster_ids = 0)
-      : sets_(n_cluster_ids), clusters_(n_cluster_ids), links_(n_cluster_ids), touched_mark_(n_cluster_ids, 0) {}
+  explicit StepBodies(int n_cluster_ids = 0) { reset(n_cluster_ids); }
+
+  // Every cluster of n_cluster_ids a body of its own; the pools' memory is released.
+  void reset(int n_cluster_ids) {
+    sets_ = DisjointSets(n_cluster_ids);
+    clusters_.reset(n_cluster_ids);
+    links_.reset(n_cluster_ids);
+    touched_ = {};
+    touched_mark_.assign(n_cluster_ids, 0);
+  }
 
   // The body of cluster c, named by its root cluster. Does not modify the structure, so
   // threads may call it together (union by size keeps the paths short).
   int body_of(int c) const { return sets_.root(c); }
   // The clusters of a body (its root): the root alone when nothing was linked to it.
   std::vector<std::int32_t> clusters_of(int body) const {
-    if (clusters_[body].empty()) return {body};
-    return clusters_[body];
+    if (clusters_.empty(body)) return {body};
+    return {clusters_.begin(body), clusters_.end(body)};
   }
-  const std::vector<SpherePair>& links_of(int body) const { return links_[body]; }
+  std::span<const SpherePair> links_of(int body) const { return {links_.begin(body), links_.end(body)}; }
 
   // Links the spheres i (of cluster ci) and j (of cluster cj): joins their bodies.
   void link(const SpherePair& p, int ci, int cj) {
@@ -41,21 +54,20 @@ class StepBodies {
     touch(b);
     if (a != b) {
       if (sets_.unite_roots(a, b) == b) std::swap(a, b);
-      append(clusters_[b], clusters_[a]);
-      append(links_[b], links_[a]);
+      clusters_.append_owner(a, b);
+      links_.append_owner(a, b);
     }
-    links_[a].push_back(p);
+    links_.push_back(a, p);
   }
 
   // Splits a body back into its clusters; returns the links it held.
   std::vector<SpherePair> dissolve(int body) {
-    std::vector<SpherePair> links;
-    links.swap(links_[body]);
+    std::vector<SpherePair> links(links_.begin(body), links_.end(body));
     const std::vector<std::int32_t> clusters = clusters_of(body);
     for (int c : clusters) {
       sets_.reset(c);
-      clusters_[c].assign(1, c);
-      links_[c].clear();
+      clusters_.assign(c, &c, 1);
+      links_.release(c);
     }
     return links;
   }
@@ -68,7 +80,7 @@ class StepBodies {
       if (sets_.root(c) == c) roots.push_back(c);
     std::sort(roots.begin(), roots.end());
     std::vector<SpherePair> out;
-    for (int r : roots) out.insert(out.end(), links_[r].begin(), links_[r].end());
+    for (int r : roots) out.insert(out.end(), links_.begin(r), links_.end(r));
     return out;
   }
 
@@ -76,8 +88,8 @@ class StepBodies {
   void clear() {
     for (int c : touched_) {
       sets_.reset(c);
-      clusters_[c].clear();
-      links_[c].clear();
+      clusters_.release(c);
+      links_.release(c);
       touched_mark_[c] = 0;
     }
     touched_.clear();
@@ -88,17 +100,12 @@ class StepBodies {
     if (touched_mark_[root]) return;
     touched_mark_[root] = 1;
     touched_.push_back(root);
-    if (clusters_[root].empty()) clusters_[root].push_back(root);
-  }
-  template <class T>
-  static void append(std::vector<T>& from, std::vector<T>& to) {
-    to.insert(to.end(), from.begin(), from.end());
-    from.clear();
+    if (clusters_.empty(root)) clusters_.push_back(root, root);
   }
 
   DisjointSets sets_;                                // the bodies, as sets of cluster ids
-  std::vector<std::vector<std::int32_t>> clusters_;  // per root: its clusters (empty: just itself)
-  std::vector<std::vector<SpherePair>> links_;       // per root: its links
+  PooledLists<std::int32_t> clusters_;               // per root: its clusters (empty: just itself)
+  PooledLists<SpherePair> links_;                    // per root: its links
   std::vector<std::int32_t> touched_;                // clusters whose entries are not pristine
   std::vector<char> touched_mark_;
 };

@@ -96,8 +96,8 @@ void TimeSteppingEngine<D>::prepare(const State<D>& s) {
   sightings_.reset(n);
   beyond_skin_.reset(cells_.list().sorted().grid().n_cells());
   near_ = NearPairs<D>(n_cluster_ids, cells_.slack());
-  S_ = AdhesiveSet(n_cluster_ids);
-  bodies_ = StepBodies(n_cluster_ids);
+  S_.reset(n_cluster_ids);
+  bodies_.reset(n_cluster_ids);
   if (!rigid()) links_ = AdhesiveLinks(n);
 }
 
