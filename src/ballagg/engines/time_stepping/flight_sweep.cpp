@@ -407,6 +407,7 @@ GroupSolution<D> FlightSweep<D>::run(Retreat<D> retreat) {
   // The retreat's instant (free, theta > 0: keep_flight sweeps no other): the group
   // overlaps nothing, and its touching pairs join.
   const double start = 1.0 - retreat.theta;
+  retreat.solution.release_moves();  // the sweep moves each sphere from the start of the step, not from the retreat
   contacts_ = retreat.solution.contacts;
   std::vector<char> changed(clusters_.size(), 0);
   for (const SpherePair& p : contacts_) {
@@ -430,6 +431,7 @@ GroupSolution<D> FlightSweep<D>::run(Retreat<D> retreat) {
     }
     if (!changed[root(k)] && (m < 0 || !changed[root(m)])) try_pair(i, j, k, m, start, found_);
   }
+  std::vector<SpherePair>().swap(retreat.candidates);  // read only above
   push_found();
   for (int k = 0; k < static_cast<int>(clusters_.size()); ++k)
     if (root(k) == k && changed[k]) search(k, start);

@@ -40,6 +40,14 @@ struct GroupSolution {
   bool placed_at_contact = false;      // minimisation abandoned, group moved back to first contact
   bool dissolves_bodies = false;       // the solution undoes the links of the group's bodies
   std::vector<SpherePair> contacts;    // pairs touching in the solution: the new links
+
+  // Frees the moves of a solution that is not applied (a failed minimisation, the retreat
+  // a flight sweep starts from): at the end of a large run they are those of a giant's
+  // every sphere, held while the solution that replaces them is built.
+  void release_moves() {
+    std::vector<std::int32_t>().swap(spheres);
+    std::vector<Vec<D>>().swap(shift);
+  }
 };
 
 template <int D>

@@ -201,8 +201,11 @@ void TimeSteppingEngine<D>::repair_unsolved(const State<D>& s, const std::vector
                                             std::vector<GroupSolution<D>>& solutions, std::vector<int>& moved) {
   const StepView<D> ctx = view(s);
   std::vector<std::size_t> failed;
-  for (std::size_t k = 0; k < groups.size(); ++k)
-    if (!solutions[k].result.converged) failed.push_back(k);
+  for (std::size_t k = 0; k < groups.size(); ++k) {
+    if (solutions[k].result.converged) continue;
+    failed.push_back(k);
+    solutions[k].release_moves();
+  }
   for (const std::vector<std::size_t>& wave : repair_waves(ctx, groups, failed)) {
     poll_team();
     const std::int64_t n_wave = static_cast<std::int64_t>(wave.size());
