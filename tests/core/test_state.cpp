@@ -1,6 +1,7 @@
 // The shared state: lazy positions, merging of clusters (rule 2.9), wall pinning.
 #include <gtest/gtest.h>
 
+#include "ballagg/core/state_codec.hpp"
 #include "support.hpp"
 
 namespace ballagg {
@@ -47,6 +48,74 @@ TEST(State, MergeAcrossAPeriodicFaceJoinsTheNearestImages) {
   EXPECT_NEAR(s.extent(keep).hi[0] - s.extent(keep).lo[0], 2.0, 1e-14);
   EXPECT_NEAR((s.unwrapped_position(0, 0) - s.unwrapped_position(1, 0)).norm(), 1.0, 1e-14);
   EXPECT_EQ(k.velocity, vec<2>(0, 0));
+}
+
+// Extents are stored only for clusters of several spheres; a single sphere's is computed.
+// Whatever the history, every cluster's extent is the box of its spheres as they are.
+template <int D>
+void expect_extents_match_the_spheres(const State<D>& s) {
+  for (int c = 0; c < static_cast<int>(s.clusters.size()); ++c) {
+    if (!s.clusters[c].alive()) continue;
+    Vec<D> lo = Vec<D>::Constant(1e300), hi = Vec<D>::Constant(-1e300);
+    for (int i : s.clusters[c].members) {
+      lo = lo.cwiseMin(s.spheres.offset[i] - Vec<D>::Constant(s.spheres.radius[i]));
+      hi = hi.cwiseMax(s.spheres.offset[i] + Vec<D>::Constant(s.spheres.radius[i]));
+    }
+    EXPECT_NEAR((s.extent(c).lo - lo).norm(), 0.0, 1e-13) << "cluster " << c;
+    EXPECT_NEAR((s.extent(c).hi - hi).norm(), 0.0, 1e-13) << "cluster " << c;
+  }
+}
+
+TEST(State, ExtentsFollowMergesSplitsAndCheckpoints) {
+  State<2> s = make_state<2>(20, Boundary::walls,
+                             {{vec<2>(5, 5), vec<2>(1, 0), 0.5}, {vec<2>(6, 5), vec<2>(0, 0), 0.5},
+                              {vec<2>(6.8, 5.1), vec<2>(0, 1), 0.3}, {vec<2>(10, 10), vec<2>(0, 0), 0.4},
+                              {vec<2>(10.8, 10), vec<2>(0, 0), 0.4}});
+  expect_extents_match_the_spheres(s);
+  const int lone = s.spheres.cluster[3];
+  EXPECT_NEAR((s.extent(lone).hi - s.extent(lone).lo - vec<2>(0.8, 0.8)).norm(), 0.0, 1e-14);  // its own box
+  const int a = s.merge(0, 1, 0.0);
+  const int b = s.merge(3, 4, 0.0);
+  const int c = s.merge(1, 2, 0.0);  // a pair absorbs a third sphere
+  expect_extents_match_the_spheres(s);
+  EXPECT_EQ(c, a);
+  // The checkpoint keeps them: stored ones as they were, single spheres' from the spheres.
+  const State<2> restored = StateCodec<2>::decode(StateCodec<2>::encode(s));
+  EXPECT_EQ(StateCodec<2>::encode(restored), StateCodec<2>::encode(s));
+  expect_extents_match_the_spheres(restored);
+  // Splitting the pair into single spheres frees its stored extent for the next merge.
+  std::vector<std::int32_t> empty;
+  for (int k = 0; k < static_cast<int>(s.clusters.size()); ++k)
+    if (!s.clusters[k].alive()) empty.push_back(k);
+  const std::vector<std::int32_t> pieces = s.split_rigid(b, empty, 0.0);
+  ASSERT_EQ(pieces.size(), 2u);
+  expect_extents_match_the_spheres(s);
+  s.merge(s.clusters[pieces[0]].members.front(), s.clusters[pieces[1]].members.front(), 0.0);
+  expect_extents_match_the_spheres(s);
+}
+
+// Collision times (the TC model's memory) are kept only once asked for, and then through
+// merges and checkpoints.
+TEST(State, CollisionTimesAreKeptOnlyWhenAskedFor) {
+  const std::vector<Ball<2>> balls{{vec<2>(5, 5), vec<2>(1, 0)}, {vec<2>(6, 5), vec<2>(0, 0)},
+                                   {vec<2>(7, 5), vec<2>(0, 0)}};
+  State<2> s = make_state<2>(20, Boundary::walls, balls);
+  s.set_last_collision_time(0, 1.0);
+  const int pair = s.merge(0, 1, 2.0);
+  EXPECT_EQ(s.last_collision_time(pair), State<2>::kNeverCollided);
+  EXPECT_EQ(StateCodec<2>::decode(StateCodec<2>::encode(s)).last_collision_time(pair), State<2>::kNeverCollided);
+
+  State<2> kept = make_state<2>(20, Boundary::walls, balls);
+  kept.keep_collision_times();
+  const int lone = kept.spheres.cluster[2];
+  EXPECT_EQ(kept.last_collision_time(lone), State<2>::kNeverCollided);
+  kept.set_last_collision_time(lone, 1.0);
+  const int merged = kept.merge(0, 1, 2.0);
+  EXPECT_EQ(kept.last_collision_time(merged), 2.0);
+  const State<2> restored = StateCodec<2>::decode(StateCodec<2>::encode(kept));
+  EXPECT_EQ(restored.last_collision_time(merged), 2.0);
+  EXPECT_EQ(restored.last_collision_time(lone), 1.0);
+  EXPECT_EQ(StateCodec<2>::encode(restored), StateCodec<2>::encode(kept));
 }
 
 TEST(State, ClusterSpanningTheBoxBetweenWallsIsPinnedAlongThatAxis) {

@@ -81,13 +81,14 @@ WallContact next_wall_contact(const State<D>& s, int c) {
   WallContact w;
   if (s.box.periodic()) return w;
   const Cluster<D>& k = s.clusters[c];
+  const ClusterExtent<D> e = s.extent(c);
   for (int a = 0; a < D; ++a) {
     const double v = k.velocity[a];
     double gap;
     if (v > 0.0) {
-      gap = s.box.length - (k.anchor[a] + s.extent(c).hi[a]);
+      gap = s.box.length - (k.anchor[a] + e.hi[a]);
     } else if (v < 0.0) {
-      gap = k.anchor[a] + s.extent(c).lo[a];
+      gap = k.anchor[a] + e.lo[a];
     } else {
       continue;
     }

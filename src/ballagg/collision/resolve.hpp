@@ -6,6 +6,13 @@
 
 namespace ballagg {
 
+// The TC model (collision.tc_time > 0) reads when each cluster last collided: the state
+// keeps those times from the start of a run whose law has it, and only then.
+template <int D>
+void keep_what_the_law_reads(State<D>& s, const CollisionSettings& law) {
+  if (law.tc() > 0.0) s.keep_collision_times();
+}
+
 // Bounce of the clusters of the touching spheres i and j at time t (rule 2.6 applied to the
 // clusters as bodies, the normal joining the two sphere centres).
 template <int D>

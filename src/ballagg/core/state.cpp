@@ -44,8 +44,10 @@ void State<D>::finalize() {
   mean_radius_ = spheres.radius.empty() ? 0.0 : spheres.radius.front() + spread / n_spheres();
   alive_.clear();
   alive_slot_.assign(clusters.size(), -1);
-  extent_.resize(clusters.size());
-  last_collision_time_.resize(clusters.size(), kNeverCollided);
+  extent_slot_.assign(clusters.size(), -1);
+  extents_.clear();
+  free_extents_.clear();
+  if (!last_collision_time_.empty()) last_collision_time_.resize(clusters.size(), kNeverCollided);
   largest_cluster_ = 0;
   for (int c = 0; c < static_cast<int>(clusters.size()); ++c) {
     Cluster<D>& k = clusters[c];
@@ -64,7 +66,11 @@ void State<D>::finalize() {
 template <int D>
 void State<D>::refresh_extent(int c) {
   const Cluster<D>& k = clusters[c];
-  ClusterExtent<D>& e = extent_[c];
+  if (k.size() <= 1) {
+    forget_extent(c);
+    return;
+  }
+  ClusterExtent<D> e;
   e.lo = Vec<D>::Constant(std::numeric_limits<double>::infinity());
   e.hi = -e.lo;
   for (int i : k.members) {
@@ -72,6 +78,30 @@ void State<D>::refresh_extent(int c) {
     e.lo = e.lo.cwiseMin(spheres.offset[i] - r);
     e.hi = e.hi.cwiseMax(spheres.offset[i] + r);
   }
+  store_extent(c, e);
+}
+
+template <int D>
+void State<D>::store_extent(int c, const ClusterExtent<D>& e) {
+  std::int32_t& slot = extent_slot_[c];
+  if (slot < 0) {
+    if (free_extents_.empty()) {
+      slot = static_cast<std::int32_t>(extents_.size());
+      extents_.push_back(e);
+      return;
+    }
+    slot = free_extents_.back();
+    free_extents_.pop_back();
+  }
+  extents_[slot] = e;
+}
+
+template <int D>
+void State<D>::forget_extent(int c) {
+  std::int32_t& slot = extent_slot_[c];
+  if (slot < 0) return;
+  free_extents_.push_back(slot);
+  slot = -1;
 }
 
 template <int D>
@@ -85,7 +115,7 @@ void State<D>::translate(int c, const Vec<D>& du, double t) {
 template <int D>
 bool State<D>::pinned(int c, int a) const {
   if (box.periodic()) return false;
-  const ClusterExtent<D>& e = extent_[c];
+  const ClusterExtent<D> e = extent(c);
   return e.hi[a] - e.lo[a] >= box.length - tolerance::kWallPinGap * min_diameter_;
 }
 
@@ -129,15 +159,18 @@ int State<D>::merge(int i, int j, double t) {
   // clusters themselves are larger than half the box.
   const Vec<D> contact = box.separation(unwrapped_position(j, t), unwrapped_position(i, t));
   const Vec<D> shift = spheres.offset[i] + contact - spheres.offset[j];
+  ClusterExtent<D> joined = extent(a);
+  const ClusterExtent<D> absorbed = extent(b);  // before its offsets move
+  joined.lo = joined.lo.cwiseMin(absorbed.lo + shift);
+  joined.hi = joined.hi.cwiseMax(absorbed.hi + shift);
   for (int m : gone.members) {
     spheres.offset[m] += shift;
     spheres.cluster[m] = a;
   }
   layout_changed();
-  extent_[a].lo = extent_[a].lo.cwiseMin(extent_[b].lo + shift);
-  extent_[a].hi = extent_[a].hi.cwiseMax(extent_[b].hi + shift);
   const Vec<D> v = stick_velocity(keep.mass, keep.velocity, gone.mass, gone.velocity);
   absorb(a, b, t);
+  store_extent(a, joined);
   assign_motion(a, v, t);
   add_to_totals(a, +1.0);
   if (n_clusters() <= resync_below_) resync_totals();
@@ -157,9 +190,13 @@ template <int D>
 void State<D>::absorb(int keep, int gone, double t) {
   Cluster<D>& k = clusters[keep];
   Cluster<D>& g = clusters[gone];
+  // The survivor keeps the extent it had (a merge then widens it; the rigid-body engine
+  // bounds its bodies otherwise), now stored since it has several spheres.
+  store_extent(keep, extent(keep));
+  forget_extent(gone);
   k.mass += g.mass;
   k.members.append(g.members.begin(), g.members.end());
-  last_collision_time_[keep] = t;
+  set_last_collision_time(keep, t);
   g.members.clear();
   g.mass = 0.0;
   g.velocity.setZero();
@@ -213,6 +250,7 @@ int State<D>::coalesce_spheres(int i, int j, double r, const Vec<D>& x, const Ve
   const int last = n_spheres() - 1;
   MemberList& members = clusters[a].members;
   members.erase(std::find(members.begin(), members.end(), j));
+  forget_extent(a);  // a single sphere again
   int moved = -1;
   if (j != last) {
     moved = last;
@@ -253,7 +291,7 @@ std::vector<std::int32_t> State<D>::split_rigid(int c, const std::vector<std::in
     piece.members.push_back(members[k]);
     piece.mass = spheres.mass[members[k]];
     piece.velocity.setZero();
-    last_collision_time_[id] = t;
+    set_last_collision_time(id, t);
     alive_slot_[id] = static_cast<std::int32_t>(alive_.size());
     alive_.push_back(id);
     spheres.cluster[members[k]] = id;
@@ -265,7 +303,7 @@ std::vector<std::int32_t> State<D>::split_rigid(int c, const std::vector<std::in
     piece.anchor = at[k];
     piece.anchor_time = t;
     piece.stamp = new_stamp();
-    extent_[ids[k]] = {};
+    forget_extent(ids[k]);
   }
   largest_cluster_ = 0;
   for (int a : alive_) largest_cluster_ = std::max(largest_cluster_, clusters[a].size());
@@ -277,8 +315,8 @@ void State<D>::reserve_clusters(int n) {
   if (static_cast<int>(clusters.size()) >= n) return;
   clusters.resize(n);
   alive_slot_.resize(n, -1);
-  extent_.resize(n);
-  last_collision_time_.resize(n, kNeverCollided);
+  extent_slot_.resize(n, -1);
+  if (!last_collision_time_.empty()) last_collision_time_.resize(n, kNeverCollided);
   if (!spin.empty()) spin.resize(n);
 }
 

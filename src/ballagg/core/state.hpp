@@ -96,11 +96,26 @@ class State {
   double mean_radius() const { return mean_radius_; }
 
   const Cluster<D>& cluster_of(int sphere) const { return clusters[spheres.cluster[sphere]]; }
-  // Cluster c's body-frame bounding box; finalize, merges and refresh_extent keep it.
-  const ClusterExtent<D>& extent(int c) const { return extent_[c]; }
-  // When cluster c last collided (kNeverCollided before): the TC model's memory.
-  double last_collision_time(int c) const { return last_collision_time_[c]; }
-  void set_last_collision_time(int c, double t) { last_collision_time_[c] = t; }
+  // Cluster c's body-frame bounding box; finalize, merges and refresh_extent keep it. Only
+  // clusters of several spheres store theirs: a single sphere's is computed from it, so a
+  // gas of monomers pays 4 bytes per cluster for extents, not 2 D doubles.
+  ClusterExtent<D> extent(int c) const {
+    const std::int32_t e = extent_slot_[c];
+    if (e >= 0) return extents_[e];
+    return single_sphere_extent(c);
+  }
+  // When cluster c last collided (kNeverCollided before): the TC model's memory. Kept only
+  // once keep_collision_times() is called (by an engine whose law has tc_time > 0): a run
+  // that never bounces pays nothing for it.
+  double last_collision_time(int c) const {
+    return last_collision_time_.empty() ? kNeverCollided : last_collision_time_[c];
+  }
+  void set_last_collision_time(int c, double t) {
+    if (!last_collision_time_.empty()) last_collision_time_[c] = t;
+  }
+  void keep_collision_times() {
+    if (last_collision_time_.empty()) last_collision_time_.assign(clusters.size(), kNeverCollided);
+  }
   static constexpr double kNeverCollided = -1e300;
 
   // Where the body origin of cluster c is at time t, not folded into the box.
@@ -221,12 +236,29 @@ class State {
   void absorb(int keep, int gone, double t);
   // Cluster c's body origin is at x at time t, moving at v (totals are the caller's).
   void place(int c, const Vec<D>& x, const Vec<D>& v, double t);
+  // The extent of a cluster of one sphere (of none: empty, at the origin).
+  ClusterExtent<D> single_sphere_extent(int c) const {
+    const MemberList& members = clusters[c].members;
+    if (members.empty()) return {};
+    const int i = members.front();
+    const Vec<D> r = Vec<D>::Constant(spheres.radius[i]);
+    return {spheres.offset[i] - r, spheres.offset[i] + r};
+  }
+  // Stores e as cluster c's extent (a cluster of several spheres), or forgets what c stored
+  // (one sphere or none: extent() computes it).
+  void store_extent(int c, const ClusterExtent<D>& e);
+  void forget_extent(int c);
 
   std::uint64_t last_stamp_ = 0;
   // Indexed by cluster id like `clusters`, and as long (finalize, reserve_clusters): read
-  // only by wall contacts and the TC model, so kept out of the cluster records.
-  std::vector<ClusterExtent<D>> extent_;
-  std::vector<double> last_collision_time_;
+  // only by wall contacts and the TC model, so kept out of the cluster records. A cluster
+  // of several spheres has its extent at extents_[extent_slot_[c]]; others have -1. Freed
+  // places are taken again last freed first (free_extents_), so the layout, like the
+  // run, depends on the events alone.
+  std::vector<std::int32_t> extent_slot_;
+  std::vector<ClusterExtent<D>> extents_;
+  std::vector<std::int32_t> free_extents_;
+  std::vector<double> last_collision_time_;  // empty unless kept
   std::vector<std::int32_t> alive_;       // ids of clusters with members
   std::vector<std::int32_t> alive_slot_;  // position of each cluster id in alive_
   int largest_cluster_ = 0;

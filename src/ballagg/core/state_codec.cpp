@@ -23,7 +23,7 @@ constexpr double kBoxLengthsOutside = 1.0;
 // cell sizes (a checkpoint with a NaN largest radius would make the rigid-body engine's
 // cell grid convert NaN to int: tests/fuzz/corpus, Checkpoint.FuzzedStateWithNan...).
 template <int D>
-void check_numbers(const State<D>& s, const ByteReader& r) {
+void check_numbers(const State<D>& s, const ByteReader& r, std::size_t first_bad_extent) {
   if (!std::isfinite(s.time)) r.fail("time not a finite number");
   double smallest = std::numeric_limits<double>::infinity(), largest = 0.0;
   for (int i = 0; i < s.n_spheres(); ++i) {
@@ -36,9 +36,9 @@ void check_numbers(const State<D>& s, const ByteReader& r) {
   }
   for (std::size_t c = 0; c < s.clusters.size(); ++c) {
     const Cluster<D>& k = s.clusters[c];
-    const ClusterExtent<D>& e = s.extent(static_cast<int>(c));
+    const ClusterExtent<D> e = s.extent(static_cast<int>(c));
     if (!(k.anchor.allFinite() && k.velocity.allFinite() && std::isfinite(k.anchor_time) && e.lo.allFinite() &&
-          e.hi.allFinite() && !std::isnan(s.last_collision_time(static_cast<int>(c)))))
+          e.hi.allFinite() && c != first_bad_extent && !std::isnan(s.last_collision_time(static_cast<int>(c)))))
       r.fail("a cluster's motion or extent not finite");
     if (!(std::isfinite(k.mass) && (k.mass > 0.0 || !k.alive()))) r.fail("a cluster mass not a positive number");
   }
@@ -86,9 +86,10 @@ void StateCodec<D>::encode(const State<D>& s, ByteWriter& w) {
     w.put(k.stamp);
     w.put(k.mass);
     w.put_array(k.members.data(), k.members.size());
-    w.put(s.extent_[c].lo);
-    w.put(s.extent_[c].hi);
-    w.put(s.last_collision_time_[c]);
+    const ClusterExtent<D> e = s.extent(static_cast<int>(c));
+    w.put(e.lo);
+    w.put(e.hi);
+    w.put(s.last_collision_time(static_cast<int>(c)));
   }
   w.put(s.last_stamp_);
   w.put_vector(s.alive_);
@@ -128,9 +129,9 @@ State<D> StateCodec<D>::decode(std::string_view bytes) {
   constexpr std::uint64_t kClusterBytes = (4 * D + 5) * sizeof(double);
   if (m > r.remaining() / kClusterBytes) r.fail("more clusters than the bytes left can hold");
   s.clusters.resize(m);
-  s.extent_.resize(m);
-  s.last_collision_time_.resize(m);
+  s.extent_slot_.assign(m, -1);
   std::uint64_t members = 0;
+  std::size_t first_bad_extent = m;  // the first cluster saved with an extent not finite
   for (std::size_t c = 0; c < m; ++c) {
     Cluster<D>& k = s.clusters[c];
     k.anchor = r.get<Vec<D>>("cluster anchor");
@@ -140,9 +141,19 @@ State<D> StateCodec<D>::decode(std::string_view bytes) {
     k.mass = r.get<double>("cluster mass");
     r.get_into<std::int32_t>(k.members, "cluster members", n - members);
     members += k.members.size();
-    s.extent_[c].lo = r.get<Vec<D>>("cluster extent");
-    s.extent_[c].hi = r.get<Vec<D>>("cluster extent");
-    s.last_collision_time_[c] = r.get<double>("cluster collision time");
+    ClusterExtent<D> e;
+    e.lo = r.get<Vec<D>>("cluster extent");
+    e.hi = r.get<Vec<D>>("cluster extent");
+    // A cluster of one sphere computes its extent from it: what was saved is only checked
+    // (with the other numbers, below).
+    if (!(e.lo.allFinite() && e.hi.allFinite())) first_bad_extent = std::min(first_bad_extent, c);
+    if (k.members.size() > 1) s.store_extent(static_cast<int>(c), e);
+    // Collision times are kept only if the saved state kept any (State::keep_collision_times).
+    const double collided = r.get<double>("cluster collision time");
+    if (collided != State<D>::kNeverCollided) {
+      if (s.last_collision_time_.empty()) s.last_collision_time_.assign(m, State<D>::kNeverCollided);
+      s.last_collision_time_[c] = collided;
+    }
   }
   // Every sphere is a member of exactly the cluster it names.
   if (members != n) r.fail("cluster members do not cover the spheres");
@@ -176,7 +187,7 @@ State<D> StateCodec<D>::decode(std::string_view bytes) {
   s.running_momentum_ = r.get<Vec<D>>("momentum");
   s.resync_below_ = r.get<int>("resync threshold");
   r.expect_end();
-  check_numbers(s, r);
+  check_numbers(s, r, first_bad_extent);
   s.layout_changed();
   return s;
 }

@@ -26,9 +26,10 @@ WallCorrection<D> wall_correction(const State<D>& s, int c, double t, bool refle
   w.velocity = k.velocity;
   if (s.box.periodic()) return w;
   const Vec<D> origin = s.origin(c, t);
+  const ClusterExtent<D> e = s.extent(c);
   Vec<D>& v = w.velocity;
   for (int a = 0; a < D; ++a) {
-    const double lo = origin[a] + s.extent(c).lo[a], hi = origin[a] + s.extent(c).hi[a], length = s.box.length;
+    const double lo = origin[a] + e.lo[a], hi = origin[a] + e.hi[a], length = s.box.length;
     double d = 0.0;
     if (lo < 0.0) {
       const bool outwards = reflect && v[a] < 0.0;

@@ -59,7 +59,7 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     calendar_.keep_at_most(settings.kept_events);
     for (int i = 0; i < n; ++i) {
       grid_.insert(i, s_.position(i, s_.time));
-      grid_.set_tag(i, sphere_[i].cluster);
+      grid_.set_tag(i, s_.spheres.cluster[i]);
     }
     for (int c = 0; c < m; ++c)
       if (s_.clusters[c].alive()) keeper_.reset(c, s_.time);
@@ -115,15 +115,14 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
   EventLoopState& loop() { return loop_; }
 
  private:
-  // The members fixed by the settings and the state, and the sphere fields.
+  // The members fixed by the settings and the state.
   struct Sized {};
   EventDrivenCore(State<D>& state, const EventDrivenSettings& settings, Sized)
       : s_(state), law_(settings.collision),
         keeper_(TranslationDrift<D>(state), fitted_skin(state, settings.skin.value_or(0.0), default_skin(state),
                                                         SkinLimitRounding::divide_first)),
         grid_(state.box, binning_cell_size(state, keeper_.skin()), state.n_spheres()) {
-    sphere_.resize(s_.n_spheres());
-    for (int i = 0; i < s_.n_spheres(); ++i) refresh_sphere(i);
+    keep_what_the_law_reads(s_, law_);
   }
 
   bool valid(const Event& e) const {
@@ -140,13 +139,13 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
   template <class Wanted, class Found>
   void for_each_foreign_near(int i, Wanted&& wanted, Found&& found) const {
     ballagg::for_each_foreign_near(
-        grid_, s_, keeper_.skin(), sphere_[i].cluster, grid_.binned(i), sphere_[i].radius, wanted,
-        [&](int j) { return sphere_[j].radius; }, found);
+        grid_, s_, keeper_.skin(), s_.spheres.cluster[i], grid_.binned(i), s_.spheres.radius[i], wanted,
+        [&](int j) { return s_.spheres.radius[j]; }, found);
   }
 
   bool bins_within_reach(int i, int j) const {
-    return ballagg::bins_within_reach(s_.box, grid_.binned(i), grid_.binned(j), sphere_[i].radius,
-                                      sphere_[j].radius, keeper_.skin());
+    return ballagg::bins_within_reach(s_.box, grid_.binned(i), grid_.binned(j), s_.spheres.radius[i],
+                                      s_.spheres.radius[j], keeper_.skin());
   }
 
   EventRecord rebuild(int c, double t) {
@@ -187,9 +186,13 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
   // instead of each waiting for the prediction before it.
   void prefetch_partners(int i) const {
     const std::span<const std::int32_t> partners = lists_.partners(i);
-    for (int j : partners) prefetch(&sphere_[j]);
     for (int j : partners) {
-      const int d = sphere_[j].cluster;
+      prefetch(&s_.spheres.cluster[j]);
+      prefetch(&s_.spheres.offset[j]);
+      prefetch(&s_.spheres.radius[j]);
+    }
+    for (int j : partners) {
+      const int d = s_.spheres.cluster[j];
       prefetch(&s_.clusters[d]);
       prefetch(keeper_.expiry_address(d));
     }
@@ -199,7 +202,7 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
   void prefetch_bins(int i) const {
     for (int j : lists_.partners(i)) {
       prefetch(&grid_.binned(j));
-      prefetch(&sphere_[j]);
+      prefetch(&s_.spheres.radius[j]);
     }
   }
 
@@ -207,11 +210,10 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
   // periodic image walk stops at the earlier list rebuild of the two clusters: a contact
   // through a farther image needs the pair to leave and re-enter the lists first.
   std::optional<Event> pair_event(int i, int j) {
-    const SphereFields& si = sphere_[i];
-    const SphereFields& sj = sphere_[j];
-    const double limit = std::min(keeper_.expiry(si.cluster), keeper_.expiry(sj.cluster));
-    const double t = predicted_contact(s_.box, s_.clusters[si.cluster], si.offset, s_.clusters[sj.cluster], sj.offset,
-                                       si.radius + sj.radius, s_.time, limit);
+    const int a = s_.spheres.cluster[i], b = s_.spheres.cluster[j];
+    const double limit = std::min(keeper_.expiry(a), keeper_.expiry(b));
+    const double t = predicted_contact(s_.box, s_.clusters[a], s_.spheres.offset[i], s_.clusters[b],
+                                       s_.spheres.offset[j], s_.spheres.radius[i] + s_.spheres.radius[j], s_.time, limit);
     ++count_.pair_predictions;
     if (t == kNever) return std::nullopt;
     const int lo = std::min(i, j), hi = std::max(i, j);
@@ -230,7 +232,7 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     for (int i : lists_.exposed(c)) {
       prefetch_partners(i);
       for (int j : lists_.partners(i)) {
-        const int d = sphere_[j].cluster;
+        const int d = s_.spheres.cluster[j];
         if (d == skip_cluster || (skip_lower_clusters && d < c)) continue;
         if (auto e = pair_event(i, j)) batch_.push_back(*e);
       }
@@ -286,10 +288,7 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     const int keep = s_.merge(i, j, t);
     const int gone = keep == a ? b : a;
     const MemberList& members = s_.clusters[keep].members;  // absorbed ones last
-    for (auto m = members.end() - absorbed; m != members.end(); ++m) {
-      refresh_sphere(*m);
-      grid_.set_tag(*m, keep);
-    }
+    for (auto m = members.end() - absorbed; m != members.end(); ++m) grid_.set_tag(*m, keep);
     lists_.absorb(keep, gone, s_.spheres.cluster.data());
     calendar_.forget(gone);
     keeper_.restart(keep, slack);
@@ -310,25 +309,11 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     return best;
   }
 
-  // ---- sphere fields ---------------------------------------------------------------------
-
-  // The fields of a sphere that every prediction and list scan reads, side by side: the
-  // state keeps them in three arrays, three cache misses per sphere at large N. They change
-  // only when the sphere's cluster is absorbed by another (stick()).
-  struct SphereFields {
-    Vec<D> offset;
-    double radius;
-    std::int32_t cluster;
-  };
-  void refresh_sphere(int i) { sphere_[i] = {s_.spheres.offset[i], s_.spheres.radius[i], s_.spheres.cluster[i]}; }
-  const Cluster<D>& cluster_of(int i) const { return s_.clusters[sphere_[i].cluster]; }
-  Vec<D> unwrapped_position(int i, double t) const {
-    return position_in(cluster_of(i), sphere_[i].offset, t);
-  }
+  const Cluster<D>& cluster_of(int i) const { return s_.cluster_of(i); }
+  Vec<D> unwrapped_position(int i, double t) const { return s_.unwrapped_position(i, t); }
 
   State<D>& s_;
   CollisionSettings law_;
-  std::vector<SphereFields> sphere_;
   NeighborKeeper<TranslationDrift<D>> keeper_;  // the skin, drifts and list expiries
   CellGrid<D> grid_;
   NeighborLists lists_;

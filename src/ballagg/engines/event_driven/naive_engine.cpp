@@ -24,10 +24,13 @@ template <int D>
 class NaiveCore {
  public:
   using Settings = EventDrivenSettings;
-  NaiveCore(State<D>& state, const EventDrivenSettings& settings) : s_(state), law_(settings.collision) {}
+  NaiveCore(State<D>& state, const EventDrivenSettings& settings) : s_(state), law_(settings.collision) {
+    keep_what_the_law_reads(s_, law_);
+  }
   // Everything it keeps between events is its counters: it predicts from scratch.
   NaiveCore(State<D>& state, const EventDrivenSettings& settings, std::string_view saved)
       : s_(state), law_(settings.collision) {
+    keep_what_the_law_reads(s_, law_);
     ByteReader r(saved, "checkpoint of the ed-naive engine");
     count_.restore(r);
     loop_ = r.get<EventLoopState>("loop state");

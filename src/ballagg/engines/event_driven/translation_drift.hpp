@@ -18,10 +18,15 @@ namespace ballagg {
 template <int D>
 class TranslationDrift {
  public:
+  // A record per cluster slot, kept by the million: its vector is stored without Eigen's
+  // 16-byte alignment, which would pad a 2D record from 24 to 32 bytes (the arithmetic,
+  // and so every result, is that of Vec).
   struct Record {
-    Vec<D> displacement_at_anchor = Vec<D>::Zero();  // since the reference instant
-    double slack = 0.0;                               // drift before the reference instant
+    // Since the reference instant.
+    Eigen::Matrix<double, D, 1, Eigen::DontAlign> displacement_at_anchor = Vec<D>::Zero();
+    double slack = 0.0;  // drift before the reference instant
   };
+  static_assert(sizeof(Record) == (D + 1) * sizeof(double), "one record per cluster: no padding");
 
   explicit TranslationDrift(const State<D>& s) : s_(&s) {}
 
@@ -45,7 +50,7 @@ class TranslationDrift {
     const Cluster<D>& k = s_->clusters[c];
     const double a = k.velocity.squaredNorm();
     if (a == 0.0) return kNever;
-    const Vec<D>& d0 = r.displacement_at_anchor;
+    const Vec<D> d0 = r.displacement_at_anchor;
     const double reach = 0.5 * skin - r.slack;
     const crossing::Quadratic q{a, d0.dot(k.velocity), d0.squaredNorm() - reach * reach};
     const double disc = crossing::discriminant(q);
@@ -54,7 +59,7 @@ class TranslationDrift {
   }
 
   void save(ByteWriter& w, const Record& r) const {
-    w.put(r.displacement_at_anchor);
+    w.put(Vec<D>(r.displacement_at_anchor));
     w.put(r.slack);
   }
   Record restore(ByteReader& r) const {

@@ -8,6 +8,7 @@ namespace ballagg {
 template <int D>
 RigidBodyCore<D>::RigidBodyCore(State<D>& state, const RigidBodySettings& settings, std::string_view saved)
     : s_(state), settings_(settings), keeper_(RotationDrift<D>(state, bodies_), 0.0), resumed_(true) {
+  keep_what_the_law_reads(s_, settings_.collision);
   const int n = s_.n_spheres();
   const int m = static_cast<int>(s_.clusters.size());
   ByteReader r(saved, "checkpoint of the rigid-body engine");

@@ -19,6 +19,7 @@
 #include <fmt/format.h>
 
 #include "ballagg/collision/contact_time.hpp"
+#include "ballagg/collision/resolve.hpp"
 #include "ballagg/core/input_error.hpp"
 #include "ballagg/core/state.hpp"
 #include "ballagg/engines/engine.hpp"
@@ -48,6 +49,7 @@ class RigidBodyCore : public CalendarDispatch<RigidBodyCore<D>> {
       : s_(state), settings_(settings),
         keeper_(RotationDrift<D>(state, bodies_), fitted_skin(state, settings.skin.value_or(0.0), rigid_body_skin(state),
                                                               SkinLimitRounding::multiply_first)) {
+    keep_what_the_law_reads(s_, settings_.collision);
     if (settings_.law.coagulation == Coagulation::sphere) {
       for (int c : s_.alive_clusters())
         if (s_.clusters[c].size() > 1)

@@ -66,7 +66,7 @@ class RotationDrift {
     const double rest = room - kLargestChord * reach;
     if (rest > 0.0) {
       const double a = k.velocity.squaredNorm();
-      const Vec<D>& d0 = d.displacement_at_anchor;
+      const Vec<D> d0 = d.displacement_at_anchor;
       const crossing::Quadratic q{a, d0.dot(k.velocity), d0.squaredNorm() - rest * rest};
       const double disc = crossing::discriminant(q);
       if (a == 0.0) chord = q.c < 0.0 ? kNever : -kNever;
