@@ -44,9 +44,7 @@ void State<D>::finalize() {
   mean_radius_ = spheres.radius.empty() ? 0.0 : spheres.radius.front() + spread / n_spheres();
   alive_.clear();
   alive_slot_.assign(clusters.size(), -1);
-  extent_slot_.assign(clusters.size(), -1);
-  extents_.clear();
-  free_extents_.clear();
+  extents_.reset(clusters.size());
   if (!last_collision_time_.empty()) last_collision_time_.resize(clusters.size(), kNeverCollided);
   largest_cluster_ = 0;
   for (int c = 0; c < static_cast<int>(clusters.size()); ++c) {
@@ -83,25 +81,12 @@ void State<D>::refresh_extent(int c) {
 
 template <int D>
 void State<D>::store_extent(int c, const ClusterExtent<D>& e) {
-  std::int32_t& slot = extent_slot_[c];
-  if (slot < 0) {
-    if (free_extents_.empty()) {
-      slot = static_cast<std::int32_t>(extents_.size());
-      extents_.push_back(e);
-      return;
-    }
-    slot = free_extents_.back();
-    free_extents_.pop_back();
-  }
-  extents_[slot] = e;
+  extents_.store(static_cast<std::size_t>(c), e);
 }
 
 template <int D>
 void State<D>::forget_extent(int c) {
-  std::int32_t& slot = extent_slot_[c];
-  if (slot < 0) return;
-  free_extents_.push_back(slot);
-  slot = -1;
+  extents_.forget(static_cast<std::size_t>(c));
 }
 
 template <int D>
@@ -315,7 +300,7 @@ void State<D>::reserve_clusters(int n) {
   if (static_cast<int>(clusters.size()) >= n) return;
   clusters.resize(n);
   alive_slot_.resize(n, -1);
-  extent_slot_.resize(n, -1);
+  extents_.resize(n);
   if (!last_collision_time_.empty()) last_collision_time_.resize(n, kNeverCollided);
   if (!spin.empty()) spin.resize(n);
 }

@@ -12,6 +12,7 @@
 
 #include "ballagg/core/box.hpp"
 #include "ballagg/core/member_list.hpp"
+#include "ballagg/core/sparse_records.hpp"
 #include "ballagg/core/spin.hpp"
 #include "ballagg/core/vec.hpp"
 
@@ -100,8 +101,7 @@ class State {
   // clusters of several spheres store theirs: a single sphere's is computed from it, so a
   // gas of monomers pays 4 bytes per cluster for extents, not 2 D doubles.
   ClusterExtent<D> extent(int c) const {
-    const std::int32_t e = extent_slot_[c];
-    if (e >= 0) return extents_[e];
+    if (const ClusterExtent<D>* stored = extents_.find(c)) return *stored;
     return single_sphere_extent(c);
   }
   // When cluster c last collided (kNeverCollided before): the TC model's memory. Kept only
@@ -251,13 +251,9 @@ class State {
 
   std::uint64_t last_stamp_ = 0;
   // Indexed by cluster id like `clusters`, and as long (finalize, reserve_clusters): read
-  // only by wall contacts and the TC model, so kept out of the cluster records. A cluster
-  // of several spheres has its extent at extents_[extent_slot_[c]]; others have -1. Freed
-  // places are taken again last freed first (free_extents_), so the layout, like the
-  // run, depends on the events alone.
-  std::vector<std::int32_t> extent_slot_;
-  std::vector<ClusterExtent<D>> extents_;
-  std::vector<std::int32_t> free_extents_;
+  // only by wall contacts and the TC model, so kept out of the cluster records. Only
+  // clusters of several spheres store an extent.
+  SparseRecords<ClusterExtent<D>> extents_;
   std::vector<double> last_collision_time_;  // empty unless kept
   std::vector<std::int32_t> alive_;       // ids of clusters with members
   std::vector<std::int32_t> alive_slot_;  // position of each cluster id in alive_

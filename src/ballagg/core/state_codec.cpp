@@ -129,7 +129,7 @@ State<D> StateCodec<D>::decode(std::string_view bytes) {
   constexpr std::uint64_t kClusterBytes = (4 * D + 5) * sizeof(double);
   if (m > r.remaining() / kClusterBytes) r.fail("more clusters than the bytes left can hold");
   s.clusters.resize(m);
-  s.extent_slot_.assign(m, -1);
+  s.extents_.reset(m);
   std::uint64_t members = 0;
   std::size_t first_bad_extent = m;  // the first cluster saved with an extent not finite
   for (std::size_t c = 0; c < m; ++c) {

@@ -45,11 +45,8 @@ std::string_view to_string(StopReason r);
 
 // contact_search: the rigid-body engine resumes the search for the first contact of two
 // rotating bodies (or of a rotating body and a wall) at this time.
-// refill: the event calendar's own marker, never handed to a handler or an observer: a
-// cluster's predictions were cut to its earliest few, and the earliest one left out is
-// due (engines/event_driven/event_calendar.hpp).
 enum class EventKind : std::uint8_t {
-  collision = 0, wall = 1, list_rebuild = 2, time_step = 3, contact_search = 4, refill = 7
+  collision = 0, wall = 1, list_rebuild = 2, time_step = 3, contact_search = 4
 };
 
 // What the engine tells an observer after each event it handled.

@@ -1,9 +1,9 @@
 // The event calendar gives its events in the total order `later` defines, whatever was
 // filed, refiled, forgotten or put back, with many simultaneous events (ties broken by
 // kind, then a, then b); a saved and restored calendar gives the same events in the same
-// order. A calendar that keeps only the earliest events of each cluster gives the same
-// events in the same order, provided each due refill marker is answered with the cluster's
-// events again (as a core that predicts purely does).
+// order. A calendar that keeps only the earliest event of each cluster gives the same
+// events in the same order, provided each cluster is filed its events again after each
+// of its events is popped (as a core that predicts purely does).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -43,15 +43,15 @@ struct Reference {
   }
 };
 
-// Drives a calendar and the reference with the same random operations. With `kept` > 0 the
-// calendar keeps that many events per cluster; a refill marker it gives is answered by
-// refiling the cluster with all its events the reference still holds (a pure prediction
-// gives back exactly those), and never reaches the comparison.
+// Drives a calendar and the reference with the same random operations. A calendar that
+// keeps the earliest event only is filed again, after each pop from a cluster, with all
+// the events the reference still holds for that cluster (a pure prediction gives back
+// exactly those).
 class CalendarDriver {
  public:
-  explicit CalendarDriver(int n_clusters, int kept = 0) : rng_(5, RandomPurpose::positions), n_(n_clusters), kept_(kept) {
-    calendar_.reset(n_clusters);
-    calendar_.keep_at_most(kept);
+  explicit CalendarDriver(int n_clusters, CalendarKeeps keeps = CalendarKeeps::every_event)
+      : rng_(5, RandomPurpose::positions), n_(n_clusters), keeps_(keeps) {
+    calendar_.reset(n_clusters, keeps);
   }
 
   std::vector<Event> batch(int c) {
@@ -70,11 +70,11 @@ class CalendarDriver {
     const double what = rng_.uniform();
     if (what < 0.3) {
       const auto v = batch(c);
-      calendar_.refile(c, v, static_cast<std::uint64_t>(c));
+      calendar_.refile(c, v);
       ref_.filed[c] = v;
     } else if (what < 0.45) {
       const auto v = batch(c);
-      calendar_.file(c, v, static_cast<std::uint64_t>(c));
+      calendar_.file(c, v);
       ref_.filed[c].insert(ref_.filed[c].end(), v.begin(), v.end());
     } else if (what < 0.5) {
       calendar_.forget(c);
@@ -82,42 +82,30 @@ class CalendarDriver {
     } else if (!calendar_.empty()) {
       pop_and_check(what < 0.55);
     }
-    if (kept_ == 0) {
+    if (keeps_ == CalendarKeeps::every_event) {
       ASSERT_EQ(calendar_.size(), ref_.size());
     } else {
       ASSERT_LE(calendar_.size(), ref_.size());
-      ASSERT_LE(calendar_.size(), static_cast<std::size_t>((kept_ + 1) * n_));
+      ASSERT_LE(calendar_.size(), static_cast<std::size_t>(n_));
     }
   }
 
   void pop_and_check(bool put_back) {
     const double earliest = calendar_.earliest_time();
-    Event e = calendar_.pop();
-    bool refilled = false;
-    int refills_here = 0;
-    while (e.kind == EventKind::refill) {
-      ASSERT_LT(++refills_here, 100) << "refills go round";
-      const int c = e.a;
-      ASSERT_EQ(e.stamp_a, static_cast<std::uint64_t>(c));
-      const std::vector<Event>& left = ref_.filed[c];
-      ASSERT_FALSE(left.empty()) << "a marker stands for no event";
-      for (const Event& x : left) ASSERT_LE(e.time, x.time) << "a marker later than an event it stands for";
-      calendar_.refile(c, left, static_cast<std::uint64_t>(c));
-      ++refills_;
-      refilled = true;
-      ASSERT_FALSE(calendar_.empty());
-      e = calendar_.pop();
-    }
+    const Event e = calendar_.pop();
+    const int c = static_cast<int>(e.stamp_a);  // stamp_a names the cluster here
+    ASSERT_EQ(calendar_.last_popped_from(), c);
     const Event expected = ref_.pop();
     ASSERT_TRUE(same(e, expected)) << e.time << " " << e.a << " " << e.b << " vs " << expected.time << " "
                                    << expected.a << " " << expected.b;
-    if (!refilled) {
-      EXPECT_EQ(earliest, e.time);
-    }
+    EXPECT_EQ(earliest, e.time);
     now_ = e.time;
     if (put_back) {
       calendar_.put_back(e);
-      ref_.filed[static_cast<int>(e.stamp_a)].push_back(e);  // stamp_a names the cluster here
+      ref_.filed[c].push_back(e);
+    } else if (keeps_ == CalendarKeeps::earliest_only) {
+      calendar_.refile(c, ref_.filed[c]);
+      ++refills_;
     }
   }
 
@@ -128,7 +116,7 @@ class CalendarDriver {
  private:
   Random rng_;
   int n_;
-  int kept_;
+  CalendarKeeps keeps_;
   double now_ = 0.0;
   std::int32_t serial_ = 0;
 };
@@ -141,65 +129,60 @@ TEST(EventCalendar, GivesEventsInTheTotalOrder) {
   EXPECT_EQ(d.calendar_.earliest_time(), std::numeric_limits<double>::infinity());
 }
 
-// Kept to one, two or three events per cluster, the calendar gives the same events in the
-// same order as the reference that keeps all, with markers answered along the way.
-TEST(EventCalendar, KeepingTheEarliestEventsGivesTheSameEventsInTheSameOrder) {
-  for (int kept : {1, 2, 3}) {
-    SCOPED_TRACE(kept);
-    CalendarDriver d(40, kept);
-    for (int step = 0; step < 20000; ++step) ASSERT_NO_FATAL_FAILURE(d.step());
-    while (d.ref_.size() > 0) ASSERT_NO_FATAL_FAILURE(d.pop_and_check(false));
-    EXPECT_GT(d.refills_, 100);  // the bound was reached, and markers came due
-    EXPECT_TRUE(d.calendar_.empty());
-  }
+// Keeping each cluster's earliest event only, the calendar gives the same events in the
+// same order as the reference that keeps all.
+TEST(EventCalendar, KeepingTheEarliestEventOnlyGivesTheSameEventsInTheSameOrder) {
+  CalendarDriver d(40, CalendarKeeps::earliest_only);
+  for (int step = 0; step < 20000; ++step) ASSERT_NO_FATAL_FAILURE(d.step());
+  while (d.ref_.size() > 0) ASSERT_NO_FATAL_FAILURE(d.pop_and_check(false));
+  EXPECT_GT(d.refills_, 1000);
+  EXPECT_TRUE(d.calendar_.empty());
 }
 
-// A marker stands for the earliest event left out, and comes first among events at its time.
-TEST(EventCalendar, ARefillMarkerStandsForTheEarliestEventLeftOut) {
+// Filing more under a cluster keeps the earliest of what it holds and what comes; a
+// refile replaces it, and forgetting drops it.
+TEST(EventCalendar, KeepingTheEarliestEventOnlyHoldsOnePerCluster) {
   EventCalendar calendar;
-  calendar.reset(2);
-  calendar.keep_at_most(1);
+  calendar.reset(2, CalendarKeeps::earliest_only);
   calendar.refile(0, {{3.0, 0, 0, 7, 0, EventKind::wall}, {1.0, 0, 0, 7, 0, EventKind::list_rebuild},
-                      {2.0, 0, 5, 7, 9, EventKind::collision}}, 7);
-  calendar.refile(1, {{2.0, 1, 0, 4, 0, EventKind::collision}});
-  EXPECT_EQ(calendar.size(), 3u);  // one event and a marker under cluster 0
-  Event e = calendar.pop();
-  EXPECT_EQ(e.time, 1.0);
-  EXPECT_EQ(e.kind, EventKind::list_rebuild);
-  e = calendar.pop();  // at t = 2 the marker goes before the collision of cluster 1
-  EXPECT_EQ(e.kind, EventKind::refill);
-  EXPECT_EQ(e.time, 2.0);
-  EXPECT_EQ(e.a, 0);
-  EXPECT_EQ(e.stamp_a, 7u);
-  // Filing more under a cluster with a marker keeps the marker at the sooner time.
-  calendar.refile(0, {{3.0, 0, 0, 7, 0, EventKind::wall}, {2.5, 0, 6, 7, 9, EventKind::collision}}, 7);
-  calendar.file(0, {{2.25, 0, 0, 7, 0, EventKind::list_rebuild}}, 7);
+                      {1.0, 0, 5, 7, 9, EventKind::collision}});
+  calendar.file(1, {{2.0, 1, 0, 4, 0, EventKind::collision}});
+  calendar.file(1, {{2.5, 1, 1, 4, 0, EventKind::collision}});
+  EXPECT_EQ(calendar.size(), 2u);
+  Event e = calendar.pop();  // at t = 1 the collision comes before the rebuild
+  EXPECT_EQ(e.kind, EventKind::collision);
+  EXPECT_EQ(e.b, 5);
+  EXPECT_EQ(calendar.last_popped_from(), 0);
+  EXPECT_EQ(calendar.size(), 1u);
+  calendar.put_back(e);
+  EXPECT_EQ(calendar.pop().b, 5);
+  calendar.file(0, {{2.25, 0, 0, 7, 0, EventKind::list_rebuild}});
+  calendar.file(1, {{1.5, 1, 2, 4, 0, EventKind::collision}});
   e = calendar.pop();
-  EXPECT_EQ(e.kind, EventKind::collision);  // cluster 1's, at 2.0
+  EXPECT_EQ(e.time, 1.5);
+  EXPECT_EQ(calendar.last_popped_from(), 1);
+  calendar.refile(0, {{4.0, 0, 0, 8, 0, EventKind::wall}});
   e = calendar.pop();
-  EXPECT_EQ(e.time, 2.25);
-  EXPECT_EQ(e.kind, EventKind::list_rebuild);
-  e = calendar.pop();
-  EXPECT_EQ(e.kind, EventKind::refill);
-  EXPECT_EQ(e.time, 2.5);
+  EXPECT_EQ(e.time, 4.0);
   EXPECT_TRUE(calendar.empty());
+  calendar.file(1, {{5.0, 1, 0, 4, 0, EventKind::wall}});
+  calendar.forget(1);
+  EXPECT_TRUE(calendar.empty());
+  EXPECT_EQ(calendar.size(), 0u);
 }
 
-// With every event kept and with one kept (its markers saved as they are).
+// With every event kept and with the earliest only.
 TEST(EventCalendar, SavedAndRestoredGivesTheSameEvents) {
-  for (int kept : {0, 1}) {
-    SCOPED_TRACE(kept);
-    CalendarDriver d(30, kept);
+  for (CalendarKeeps keeps : {CalendarKeeps::every_event, CalendarKeeps::earliest_only}) {
+    SCOPED_TRACE(static_cast<int>(keeps));
+    CalendarDriver d(30, keeps);
     for (int step = 0; step < 3000; ++step) ASSERT_NO_FATAL_FAILURE(d.step());
     ByteWriter w;
     d.calendar_.save(w);
     EventCalendar copy;
-    copy.reset(30);
-    copy.keep_at_most(kept);
+    copy.reset(30, keeps);
     ByteReader r(w.bytes(), "calendar");
-    int markers = 0;
-    copy.restore(r, [&](const Event& e) { markers += e.kind == EventKind::refill; });
-    EXPECT_EQ(markers > 0, kept > 0);
+    copy.restore(r, [&](const Event&) {});
     ByteWriter again;
     copy.save(again);
     EXPECT_EQ(again.bytes(), w.bytes());
@@ -210,6 +193,40 @@ TEST(EventCalendar, SavedAndRestoredGivesTheSameEvents) {
     }
     EXPECT_TRUE(d.calendar_.empty());
   }
+}
+
+// A calendar saved with every event kept, restored into one that keeps the earliest only,
+// keeps each cluster's earliest. A refill marker, as `ed` saved them when it filed markers
+// (a copy of an event left out, its second stamp 2^63 + its cluster), becomes its copied
+// event with stamps 0, which no cluster has: found stale when due.
+TEST(EventCalendar, RestoringKeepsTheEarliestAndReadsOldRefillMarkers) {
+  EventCalendar all;
+  all.reset(2);
+  all.refile(0, {{3.0, 0, 0, 7, 0, EventKind::wall}, {1.0, 0, 0, 7, 0, EventKind::list_rebuild}});
+  all.refile(1, {{2.0, 1, 0, 4, 0, EventKind::wall}});
+  ByteWriter w;
+  all.save(w);
+  // A third cluster, saved with a marker standing for its events.
+  w.put<std::uint32_t>(1);
+  w.put(0.5);
+  w.put<std::int32_t>(2);
+  w.put<std::int32_t>(0);
+  w.put<std::uint64_t>(9);
+  w.put<std::uint64_t>((std::uint64_t{1} << 63) | 2);
+  w.put(EventKind::list_rebuild);
+  EventCalendar earliest;
+  earliest.reset(3, CalendarKeeps::earliest_only);
+  ByteReader r(w.bytes(), "calendar");
+  earliest.restore(r, [](const Event&) {});
+  EXPECT_EQ(earliest.size(), 3u);
+  Event e = earliest.pop();
+  EXPECT_EQ(e.time, 0.5);
+  EXPECT_EQ(e.a, 2);
+  EXPECT_EQ(e.stamp_a, 0u);
+  EXPECT_EQ(e.stamp_b, 0u);
+  EXPECT_EQ(earliest.pop().time, 1.0);
+  EXPECT_EQ(earliest.pop().time, 2.0);
+  EXPECT_TRUE(earliest.empty());
 }
 
 TEST(EventCalendar, ForgottenClustersGiveNoEvents) {

@@ -10,8 +10,9 @@
 //   EventRecord rebuild(a, t)             EventKind::list_rebuild;
 //   EventRecord search(a, b, t)           EventKind::contact_search, if it files such events;
 //   void refill(c)                        predicts cluster c again, if its calendar keeps
-//                                         only the earliest events (keep_at_most): a due
-//                                         refill marker is handled here, unseen by the loop.
+//                                         only the earliest event of each cluster: c's
+//                                         event was stale (event_calendar.hpp), which the
+//                                         loop never sees.
 // Every call is resolved at compile time: an event costs no virtual call.
 #include <optional>
 
@@ -24,11 +25,13 @@ template <class Core>
 class CalendarDispatch {
  public:
   std::optional<Event> next_event() {
-    while (true) {
-      std::optional<Event> next = calendar_.pop_valid([&](const Event& e) { return core().valid(e); });
-      if (!next || next->kind != EventKind::refill) return next;
-      if constexpr (requires { core().refill(next->a); }) core().refill(next->a);
+    while (!calendar_.empty()) {
+      const Event e = calendar_.pop();
+      if (core().valid(e)) return e;
+      if constexpr (requires { core().refill(0); })
+        if (calendar_.keeps() == CalendarKeeps::earliest_only) core().refill(calendar_.last_popped_from());
     }
+    return std::nullopt;
   }
   void put_back(const Event& e) { calendar_.put_back(e); }
 
@@ -42,7 +45,6 @@ class CalendarDispatch {
         if constexpr (requires { c.search(e.a, e.b, e.time); }) return c.search(e.a, e.b, e.time);
         break;  // never filed by a core without contact searches
       case EventKind::time_step: break;  // never filed: time stepping only
-      case EventKind::refill: break;     // handled by next_event()
     }
     return {};
   }

@@ -8,26 +8,27 @@
 // recognised by their stamps when they reach the top (lazy invalidation).
 //
 // Layout: one small binary heap of events per cluster, kept in a pool of blocks sized to
-// the heap (pooled_lists.hpp), and a bucketed queue of clusters
-// keyed by the earliest event of each (bucket_queue.hpp): repositioning a cluster after
-// an event costs O(1) there, where a heap of clusters cost O(log M) scattered comparisons.
+// the heap (pooled_lists.hpp), or only the earliest event of each cluster, in place (below);
+// and a bucketed queue of clusters keyed by the earliest event of each (bucket_queue.hpp):
+// repositioning a cluster after an event costs O(1) there, where a heap of clusters cost
+// O(log M) scattered comparisons.
 //
-// A calendar may keep only the earliest few events of each cluster (keep_at_most(k), the
-// one-event-per-particle idea of Smallenburg's EDMD carried over to clusters). Most filed
-// predictions go stale before they are due (a partner's motion changes first), so filing
-// them all costs heap work and memory for nothing. What is left out is stood for by one
-// refill marker placed in the order just after the earliest event left out: every event
-// before that one, the cluster's kept ones included, comes first, and nothing comes
-// between. When the marker is due and the cluster's stamp is unchanged, its core predicts
-// the cluster again (CalendarDispatch). Predictions are pure functions of the motions
-// (collision/prediction.hpp), so the events filed again are bit for bit the ones left out,
-// and the run handles the same events in the same order as with every event kept. Each
-// refill is followed by the event it stood just after, so refills cannot go round.
+// A calendar may instead keep only each cluster's earliest event (CalendarKeeps::
+// earliest_only, the one-event-per-particle calendar of Smallenburg's EDMD carried over
+// to clusters). Most predictions go stale before they are due (a partner's motion changes
+// first), so filing them all costs heap work and memory for nothing. A core that keeps the
+// earliest only predicts a cluster afresh after every event filed under it: when it
+// handles the event, and when the event turns out stale (CalendarDispatch calls its
+// refill()). Every prediction left out comes after the one kept, so it is made again before
+// it is due; predictions are pure functions of the motions (collision/prediction.hpp), so
+// it is made again bit for bit, and the run handles the same events in the same order as
+// with every event kept. A cluster then costs one 32-byte event, not a heap in the pool.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <optional>
+#include <span>
 #include <stdexcept>
 #include <type_traits>
 #include <vector>
@@ -36,6 +37,7 @@
 #include "ballagg/core/pooled_lists.hpp"
 #include "ballagg/engines/engine.hpp"
 #include "ballagg/engines/event_driven/bucket_queue.hpp"
+#include "ballagg/engines/event_driven/calendar_keeps.hpp"
 
 namespace ballagg {
 
@@ -61,15 +63,10 @@ inline bool later(const Event& x, const Event& y) {
 // it to a multiple of 8). The kind goes into the top bits of stamp_a's word: stamps stay
 // below kStampLimit (core/state.hpp), so they never reach those bits; a larger one is
 // refused, never cut.
-//
-// A refill marker of cluster c is a copy of the earliest event left out with its second
-// stamp replaced by kMarkerBit | c, and its first by c's stamp: ordered as that event,
-// then after it (filed_later). Read back (event()) it is an Event of kind refill, a = c.
 struct FiledEvent {
   static constexpr int kKindShift = 61;
   static constexpr std::uint64_t kStampLimit = std::uint64_t{1} << kKindShift;
   static_assert(kStampLimit == ballagg::kStampLimit, "the state's stamps must fit below the kind bits");
-  static constexpr std::uint64_t kMarkerBit = std::uint64_t{1} << 63;
 
   FiledEvent() = default;
   explicit FiledEvent(const Event& e)
@@ -78,19 +75,7 @@ struct FiledEvent {
     if (e.stamp_a >= kStampLimit || e.stamp_b >= kStampLimit)
       throw std::length_error("event calendar: a cluster stamp beyond 2^61");
   }
-  // The marker of cluster c (whose stamp is `stamp`) standing just after `left_out`.
-  static FiledEvent marker(const FiledEvent& left_out, int c, std::uint64_t stamp) {
-    FiledEvent m = left_out;
-    m.kind_and_stamp_a = (left_out.kind_and_stamp_a & ~(kStampLimit - 1)) | stamp;
-    m.stamp_b = kMarkerBit | static_cast<std::uint32_t>(c);
-    return m;
-  }
-  bool is_marker() const { return stamp_b >= kMarkerBit; }
-  Event event() const {
-    const std::uint64_t stamp = kind_and_stamp_a & (kStampLimit - 1);
-    if (is_marker()) return {time, static_cast<std::int32_t>(stamp_b & ~kMarkerBit), 0, stamp, 0, EventKind::refill};
-    return {time, a, b, stamp, stamp_b, kind()};
-  }
+  Event event() const { return {time, a, b, kind_and_stamp_a & (kStampLimit - 1), stamp_b, kind()}; }
   EventKind kind() const { return static_cast<EventKind>(kind_and_stamp_a >> kKindShift); }
 
   double time;
@@ -102,57 +87,64 @@ struct FiledEvent {
 static_assert(sizeof(FiledEvent) == 32 && std::is_trivially_copyable_v<FiledEvent>);
 static_assert(static_cast<int>(EventKind::contact_search) < 8, "the kind takes the top 3 bits of a stamp word");
 
-// The same order as later(Event, Event): the kind sits above the stamp's bits. A marker
-// comes just after the event it copies (and after a marker of a lower cluster copying the
-// same event).
+// The same order as later(Event, Event): the kind sits above the stamp's bits.
 inline bool filed_later(const FiledEvent& x, const FiledEvent& y) {
   if (x.time != y.time) return x.time > y.time;
   const std::uint64_t kx = x.kind_and_stamp_a >> FiledEvent::kKindShift;
   const std::uint64_t ky = y.kind_and_stamp_a >> FiledEvent::kKindShift;
   if (kx != ky) return kx > ky;
   if (x.a != y.a) return x.a > y.a;
-  if (x.b != y.b) return x.b > y.b;
-  if (x.is_marker() != y.is_marker()) return x.is_marker();
-  return x.is_marker() && x.stamp_b > y.stamp_b;
+  return x.b > y.b;
 }
 
 class EventCalendar {
  public:
   EventCalendar() = default;
-  EventCalendar(const EventCalendar&) = delete;  // order_ points into filed_
+  EventCalendar(const EventCalendar&) = delete;  // order_ points to this calendar
   EventCalendar& operator=(const EventCalendar&) = delete;
 
-  void reset(int n_clusters) {
-    filed_.reset(n_clusters);
+  // n_clusters clusters without events, keeping what `keeps` says of each one's events.
+  void reset(int n_clusters, CalendarKeeps keeps = CalendarKeeps::every_event) {
+    keeps_ = keeps;
+    if (keeps_ == CalendarKeeps::every_event) {
+      filed_.reset(n_clusters);
+      std::vector<FiledEvent>().swap(earliest_);
+    } else {
+      filed_.reset(0);
+      earliest_.assign(static_cast<std::size_t>(n_clusters), FiledEvent{});
+    }
     order_.reset(n_clusters);
     stored_ = 0;
   }
+  CalendarKeeps keeps() const { return keeps_; }
 
-  // From now on, at most `k` events (k >= 1) are kept per cluster, and a refill marker
-  // stands for the rest; 0 keeps every event. A core that sets it handles refill markers
-  // (CalendarDispatch) and predicts purely.
-  void keep_at_most(int k) { kept_ = k; }
-
-  // Replaces all events filed under cluster c (its stamp has changed) by `events`; `stamp`
-  // is c's stamp (for a refill marker).
-  void refile(int c, const std::vector<Event>& events, std::uint64_t stamp = 0) {
-    stored_ -= filed_.size(c);
-    if (kept_ > 0 && events.size() > static_cast<std::size_t>(kept_)) {
-      candidates_.clear();
-      for (const Event& e : events) candidates_.emplace_back(e);
-      keep_earliest(c, nullptr, stamp);
-    } else {
-      filed_.assign(c, events.data(), events.size());
+  // Replaces all events filed under cluster c (its stamp has changed) by `events`.
+  void refile(int c, const std::vector<Event>& events) {
+    if (keeps_ == CalendarKeeps::earliest_only) {
+      forget(c);
+      file(c, events);
+      return;
     }
+    stored_ -= filed_.size(c);
+    filed_.assign(c, events.data(), events.size());
     stored_ += filed_.size(c);
     std::make_heap(filed_.begin(c), filed_.end(c), filed_later);
     reposition(c);
   }
 
-  // Adds events to those filed under cluster c (its stamp has not changed, and is `stamp`).
-  void file(int c, const std::vector<Event>& events, std::uint64_t stamp = 0) {
-    if (kept_ > 0 && filed_.size(c) + events.size() > static_cast<std::size_t>(kept_)) {
-      refile_with(c, events, stamp);
+  // Adds events to those filed under cluster c (its stamp has not changed).
+  void file(int c, const std::vector<Event>& events) {
+    if (keeps_ == CalendarKeeps::earliest_only) {
+      if (events.empty()) return;
+      const bool held = order_.contains(c);
+      FiledEvent earliest = held ? earliest_[c] : FiledEvent(events.front());
+      for (const Event& e : events) {
+        const FiledEvent f(e);
+        if (filed_later(earliest, f)) earliest = f;
+      }
+      earliest_[c] = earliest;
+      stored_ += held ? 0 : 1;
+      order_.update(c, earliest.time);
       return;
     }
     for (const Event& e : events) {
@@ -165,6 +157,11 @@ class EventCalendar {
 
   // Drops every event of cluster c and releases its memory (c was merged away).
   void forget(int c) {
+    if (keeps_ == CalendarKeeps::earliest_only) {
+      if (order_.contains(c)) --stored_;
+      order_.remove(c);
+      return;
+    }
     stored_ -= filed_.size(c);
     filed_.release(c);
     reposition(c);
@@ -174,66 +171,64 @@ class EventCalendar {
   std::size_t size() const { return stored_; }
   // The time of the earliest event filed (possibly stale), or +inf.
   double earliest_time() {
-    return order_.empty() ? std::numeric_limits<double>::infinity() : filed_.front(order_.top()).time;
-  }
-
-  // Pops events until one passes `valid` (stale ones are dropped) and returns it.
-  template <class Valid>
-  std::optional<Event> pop_valid(Valid&& valid) {
-    while (!empty()) {
-      const Event e = pop();
-      if (valid(e)) return e;
-    }
-    return std::nullopt;
+    return order_.empty() ? std::numeric_limits<double>::infinity() : front(order_.top()).time;
   }
 
   // Removes and returns the earliest event (possibly stale). Requires !empty().
   Event pop() {
     const int c = order_.top();
     last_popped_from_ = c;
+    --stored_;
+    if (keeps_ == CalendarKeeps::earliest_only) {
+      order_.remove(c);
+      return earliest_[c].event();
+    }
     std::pop_heap(filed_.begin(c), filed_.end(c), filed_later);
     const Event e = filed_.end(c)[-1].event();
     filed_.pop_back(c);
-    --stored_;
     reposition(c);
     return e;
   }
+  // The cluster the last pop() took its event from.
+  int last_popped_from() const { return last_popped_from_; }
 
   // Files the event the last pop() returned again, where it was: the calendar then holds
   // the same events as before that pop, and gives them in the same order (the order is
   // total). Nothing may have been filed or dropped since.
-  void put_back(const Event& e) {
-    const int c = last_popped_from_;
-    filed_.push_back(c, FiledEvent(e));
-    std::push_heap(filed_.begin(c), filed_.end(c), filed_later);
-    ++stored_;
-    reposition(c);
-  }
+  void put_back(const Event& e) { file(last_popped_from_, {e}); }
 
   // Checkpoints: every cluster's events (stale ones too: the event-queue peak counts them).
   // restore() into a calendar reset() to the same number of clusters; check(e) throws for
   // an event whose ids do not fit the state. The queue of clusters is rebuilt: its layout
   // affects the speed only, never which event comes first (bucket_queue.hpp).
   void save(ByteWriter& w) const {
-    for (int c = 0; c < filed_.owners(); ++c) {
-      w.put<std::uint32_t>(filed_.size(c));
-      for (const FiledEvent* filed = filed_.begin(c); filed != filed_.end(c); ++filed) {
-        // Field by field, as an Event: the format keeps its layout. A marker is saved as
-        // the copy it is (its second stamp carries the marker bit and its cluster).
-        w.put(filed->time);
-        w.put(filed->a);
-        w.put(filed->b);
-        w.put(filed->kind_and_stamp_a & (FiledEvent::kStampLimit - 1));
-        w.put(filed->stamp_b);
-        w.put(filed->kind());
+    for (int c = 0; c < static_cast<int>(order_size()); ++c) {
+      const std::span<const FiledEvent> events = filed(c);
+      w.put<std::uint32_t>(static_cast<std::uint32_t>(events.size()));
+      for (const FiledEvent& filed : events) {
+        // Field by field, as an Event: the format keeps its layout.
+        w.put(filed.time);
+        w.put(filed.a);
+        w.put(filed.b);
+        w.put(filed.kind_and_stamp_a & (FiledEvent::kStampLimit - 1));
+        w.put(filed.stamp_b);
+        w.put(filed.kind());
       }
     }
   }
+  // A calendar that keeps the earliest event only keeps the earliest of a cluster's saved
+  // ones (what it would have kept of them). A file written when `ed` filed refill markers
+  // (a copy of an event left out, its second stamp holding kOldMarkerBit and its cluster)
+  // is read too: a marker becomes its copied event with the first stamp 0, which no
+  // cluster has, so that it is found stale when due and its cluster predicted again, as
+  // the marker had it.
   template <class Check>
   void restore(ByteReader& r, Check&& check) {
+    static constexpr std::uint64_t kOldMarkerBit = std::uint64_t{1} << 63;
     stored_ = 0;
-    for (int c = 0; c < filed_.owners(); ++c) {
-      filed_.clear(c);
+    std::vector<Event> events;
+    for (int c = 0; c < static_cast<int>(order_size()); ++c) {
+      events.clear();
       const auto n = r.get<std::uint32_t>("event count");
       for (std::uint32_t k = 0; k < n; ++k) {
         Event e;
@@ -245,25 +240,20 @@ class EventCalendar {
         e.kind = r.get<EventKind>("event kind");
         if (!std::isfinite(e.time)) r.fail("event at a time that is not finite");
         if (e.stamp_a >= FiledEvent::kStampLimit) r.fail("event stamp beyond 2^61");
-        const bool marker = e.stamp_b >= FiledEvent::kMarkerBit;
-        if (marker) {
-          // The copied event's kind and ids are checked as an event's, its cluster as a marker's.
-          if (e.stamp_b - FiledEvent::kMarkerBit > static_cast<std::uint64_t>(std::numeric_limits<std::int32_t>::max()))
-            r.fail("a refill marker that names no cluster");
-          check(Event{e.time, e.a, e.b, e.stamp_a, 0, e.kind});
-          check(Event{e.time, static_cast<std::int32_t>(e.stamp_b - FiledEvent::kMarkerBit), 0, e.stamp_a, 0,
-                      EventKind::refill});
-          const std::uint64_t copied_stamp_b = e.stamp_b;
+        if (e.stamp_b >= kOldMarkerBit) {
+          if (e.stamp_b - kOldMarkerBit != static_cast<std::uint64_t>(c)) r.fail("a refill marker filed under another cluster");
+          e.stamp_a = 0;
           e.stamp_b = 0;
-          FiledEvent filed(e);
-          filed.stamp_b = copied_stamp_b;
-          filed_.push_back(c, filed);
-        } else {
-          if (e.stamp_b >= FiledEvent::kStampLimit) r.fail("event stamp beyond 2^61");
-          check(e);
-          filed_.push_back(c, FiledEvent(e));
         }
+        if (e.stamp_b >= FiledEvent::kStampLimit) r.fail("event stamp beyond 2^61");
+        check(e);
+        events.push_back(e);
       }
+      if (keeps_ == CalendarKeeps::earliest_only) {
+        file(c, events);
+        continue;
+      }
+      for (const Event& e : events) filed_.push_back(c, FiledEvent(e));
       if (!std::is_heap(filed_.begin(c), filed_.end(c), filed_later)) r.fail("a cluster's events out of order");
       stored_ += n;
       reposition(c);
@@ -275,9 +265,23 @@ class EventCalendar {
 
   // Orders clusters whose earliest events are simultaneous by those events.
   struct FrontOrder {
-    const Filed* filed;
-    bool operator()(int x, int y) const { return filed_later(filed->front(y), filed->front(x)); }
+    const EventCalendar* calendar;
+    bool operator()(int x, int y) const { return filed_later(calendar->front(y), calendar->front(x)); }
   };
+
+  // Cluster c's earliest event. Requires one.
+  const FiledEvent& front(int c) const {
+    return keeps_ == CalendarKeeps::earliest_only ? earliest_[c] : filed_.front(c);
+  }
+  // Cluster c's events as stored (a heap, or the earliest alone).
+  std::span<const FiledEvent> filed(int c) const {
+    if (keeps_ == CalendarKeeps::every_event) return {filed_.begin(c), filed_.size(c)};
+    if (!order_.contains(c)) return {};
+    return {&earliest_[c], 1};
+  }
+  std::size_t order_size() const {
+    return keeps_ == CalendarKeeps::every_event ? static_cast<std::size_t>(filed_.owners()) : earliest_.size();
+  }
 
   // Refiles cluster c in the queue of clusters after its earliest event changed (or vanished).
   void reposition(int c) {
@@ -285,49 +289,15 @@ class EventCalendar {
     else order_.update(c, filed_.front(c).time);
   }
 
-  // file() beyond the bound: c's events so far (a marker among them stands for events
-  // from its time on) and the new ones, cut again to the earliest kept_.
-  void refile_with(int c, const std::vector<Event>& events, std::uint64_t stamp) {
-    std::optional<FiledEvent> marker;  // a cluster holds at most one
-    candidates_.clear();
-    for (const FiledEvent* f = filed_.begin(c); f != filed_.end(c); ++f) {
-      if (f->is_marker()) marker = *f;
-      else candidates_.push_back(*f);
-    }
-    for (const Event& e : events) candidates_.emplace_back(e);
-    stored_ -= filed_.size(c);
-    if (candidates_.size() > static_cast<std::size_t>(kept_)) {
-      keep_earliest(c, marker ? &*marker : nullptr, stamp);
-    } else {
-      if (marker) candidates_.push_back(*marker);
-      filed_.assign(c, candidates_.data(), candidates_.size());
-    }
-    stored_ += filed_.size(c);
-    std::make_heap(filed_.begin(c), filed_.end(c), filed_later);
-    reposition(c);
-  }
-
-  // Files under c the kept_ earliest of candidates_ (more than kept_ of them, no marker
-  // among them) and a refill marker just after the earliest one left out, or `marker` (c's
-  // marker so far) if that comes sooner. Not yet a heap.
-  void keep_earliest(int c, const FiledEvent* marker, std::uint64_t stamp) {
-    const auto first_left_out = candidates_.begin() + kept_;
-    std::nth_element(candidates_.begin(), first_left_out, candidates_.end(),
-                     [](const FiledEvent& x, const FiledEvent& y) { return filed_later(y, x); });
-    const FiledEvent fresh = FiledEvent::marker(*first_left_out, c, stamp);
-    *first_left_out = marker != nullptr && filed_later(fresh, *marker) ? *marker : fresh;
-    filed_.assign(c, candidates_.data(), static_cast<std::size_t>(kept_) + 1);
-  }
-
-  // Per cluster: a binary heap (earliest on top) of 32-byte events in a pool of blocks
-  // (pooled_lists.hpp). A cluster costs an 8-byte handle and its events: dead clusters cost
-  // no events, and a monomer with one or two events uses a block of one or two.
+  CalendarKeeps keeps_ = CalendarKeeps::every_event;
+  // every_event: per cluster, a binary heap (earliest on top) of 32-byte events in a pool
+  // of blocks (pooled_lists.hpp); a cluster costs an 8-byte handle and its events, and a
+  // dead one no events. earliest_only: per cluster, its earliest event, in place.
   Filed filed_;
-  BucketQueue<FrontOrder> order_{FrontOrder{&filed_}};  // clusters with events
+  std::vector<FiledEvent> earliest_;
+  BucketQueue<FrontOrder> order_{FrontOrder{this}};  // clusters with events
   std::size_t stored_ = 0;
   int last_popped_from_ = 0;
-  int kept_ = 0;                     // events kept per cluster (0: all)
-  std::vector<FiledEvent> candidates_;  // scratch of refile() and file() under a bound
 };
 
 }  // namespace ballagg

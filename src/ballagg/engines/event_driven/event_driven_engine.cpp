@@ -53,10 +53,9 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
   EventDrivenCore(State<D>& state, const EventDrivenSettings& settings) : EventDrivenCore(state, settings, Sized{}) {
     const int n = s_.n_spheres();
     const int m = static_cast<int>(s_.clusters.size());
-    keeper_.assign(m);
+    keeper_.assign(m, keeps_expiries());
     lists_.reset(n, m);
-    calendar_.reset(m);
-    calendar_.keep_at_most(settings.kept_events);
+    calendar_.reset(m, settings.calendar);
     for (int i = 0; i < n; ++i) {
       grid_.insert(i, s_.position(i, s_.time));
       grid_.set_tag(i, s_.spheres.cluster[i]);
@@ -86,15 +85,14 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     grid_.restore(r);
     lists_.reset(n, m);
     lists_.restore(r);
-    calendar_.reset(m);
-    calendar_.keep_at_most(settings.kept_events);
+    calendar_.reset(m, settings.calendar);
     calendar_.restore(r, [&](const Event& e) {
       const bool ok = e.kind == EventKind::collision ? e.a >= 0 && e.a < e.b && e.b < n
                       : e.kind == EventKind::wall    ? e.a >= 0 && e.a < m && e.b >= 0 && e.b < D
-                      : (e.kind == EventKind::list_rebuild || e.kind == EventKind::refill) && e.a >= 0 && e.a < m;
+                      : e.kind == EventKind::list_rebuild && e.a >= 0 && e.a < m;
       if (!ok) r.fail("an event that names no sphere or cluster");
     });
-    keeper_.restore(r, m);
+    keeper_.restore(r, m, keeps_expiries());
     r.expect_end();
   }
 
@@ -119,7 +117,8 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
   struct Sized {};
   EventDrivenCore(State<D>& state, const EventDrivenSettings& settings, Sized)
       : s_(state), law_(settings.collision),
-        keeper_(TranslationDrift<D>(state), fitted_skin(state, settings.skin.value_or(0.0), default_skin(state),
+        // grid_ is built after keeper_, which keeps only its address.
+        keeper_(TranslationDrift<D>(state, &grid_), fitted_skin(state, settings.skin.value_or(0.0), default_skin(state),
                                                         SkinLimitRounding::divide_first)),
         grid_(state.box, binning_cell_size(state, keeper_.skin()), state.n_spheres()) {
     keep_what_the_law_reads(s_, law_);
@@ -148,6 +147,11 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
                                       s_.spheres.radius[j], keeper_.skin());
   }
 
+  // A calendar that keeps every event keeps the predictions already made and files those
+  // of the new pairs. One that keeps the earliest only held nothing else of c's: c is
+  // predicted afresh. The pairs dropped from the lists are then not predicted again; none
+  // of them can touch before one of its two clusters rebuilds (neighbor_keeper.hpp), and
+  // that rebuild lists the pair again if it comes within reach.
   EventRecord rebuild(int c, double t) {
     const std::int32_t* cluster = s_.spheres.cluster.data();
     const Cluster<D>& k = s_.clusters[c];
@@ -162,18 +166,24 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
         if (!bins_within_reach(i, j)) lists_.remove_pair(i, j, cluster);
       }
     }
-    // List and predict the pairs that came into reach.
+    // List (and predict) the pairs that came into reach.
     keeper_.reset(c, t);
-    keeper_.renew_expiry(c);
+    const double expiry = keeper_.renew_expiry(c);
+    const bool keeps_every_event = calendar_.keeps() == CalendarKeeps::every_event;
     batch_.clear();
     for (int i : k.members) {
       for_each_foreign_near(i, [&](int j) { return !lists_.listed(i, j); }, [&](int j) {
         lists_.add_pair(i, j, cluster);
+        if (!keeps_every_event) return;
         if (auto e = pair_event(i, j)) batch_.push_back(*e);
       });
     }
-    if (keeper_.expiry(c) < kNever) batch_.push_back({keeper_.expiry(c), c, 0, k.stamp, 0, EventKind::list_rebuild});
-    calendar_.file(c, batch_, k.stamp);
+    if (keeps_every_event) {
+      if (expiry < kNever) batch_.push_back({expiry, c, 0, k.stamp, 0, EventKind::list_rebuild});
+      calendar_.file(c, batch_);
+    } else {
+      predict(c);
+    }
     count_.rebuilt_spheres += k.size();
     ++count_.list_rebuilds;
     return {.time = t, .kind = EventKind::list_rebuild, .cluster = c};
@@ -194,7 +204,7 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     for (int j : partners) {
       const int d = s_.spheres.cluster[j];
       prefetch(&s_.clusters[d]);
-      prefetch(keeper_.expiry_address(d));
+      if (keeps_expiries()) prefetch(keeper_.expiry_address(d));
     }
   }
 
@@ -208,10 +218,12 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
 
   // The contact event of spheres i and j (different clusters), if they approach. The
   // periodic image walk stops at the earlier list rebuild of the two clusters: a contact
-  // through a farther image needs the pair to leave and re-enter the lists first.
+  // through a farther image needs the pair to leave and re-enter the lists first. (Nothing
+  // else reads a partner's expiry: a box with walls keeps none.)
+  bool keeps_expiries() const { return s_.box.periodic(); }
   std::optional<Event> pair_event(int i, int j) {
     const int a = s_.spheres.cluster[i], b = s_.spheres.cluster[j];
-    const double limit = std::min(keeper_.expiry(a), keeper_.expiry(b));
+    const double limit = keeps_expiries() ? std::min(keeper_.expiry(a), keeper_.expiry(b)) : kNever;
     const double t = predicted_contact(s_.box, s_.clusters[a], s_.spheres.offset[i], s_.clusters[b],
                                        s_.spheres.offset[j], s_.spheres.radius[i] + s_.spheres.radius[j], s_.time, limit);
     ++count_.pair_predictions;
@@ -227,8 +239,8 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     batch_.clear();
     const WallContact w = next_wall_contact(s_, c);
     if (w.time < kNever) batch_.push_back({w.time, c, w.axis, k.stamp, 0, EventKind::wall});
-    keeper_.renew_expiry(c);
-    if (keeper_.expiry(c) < kNever) batch_.push_back({keeper_.expiry(c), c, 0, k.stamp, 0, EventKind::list_rebuild});
+    const double expiry = keeper_.renew_expiry(c);
+    if (expiry < kNever) batch_.push_back({expiry, c, 0, k.stamp, 0, EventKind::list_rebuild});
     for (int i : lists_.exposed(c)) {
       prefetch_partners(i);
       for (int j : lists_.partners(i)) {
@@ -237,12 +249,13 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
         if (auto e = pair_event(i, j)) batch_.push_back(*e);
       }
     }
-    calendar_.refile(c, batch_, k.stamp);
+    calendar_.refile(c, batch_);
     count_.queue_peak = std::max<std::int64_t>(count_.queue_peak, calendar_.size());
   }
 
-  // A refill marker of cluster c is due (event_calendar.hpp): its events are predicted
-  // again, the same as when they were left out.
+  // Cluster c's earliest event was stale, and the calendar keeps no other
+  // (event_calendar.hpp): its events are predicted again, the same as when they were left
+  // out.
   void refill(int c) { predict(c); }
 
   // ---- event handlers --------------------------------------------------------------------
@@ -291,6 +304,7 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     for (auto m = members.end() - absorbed; m != members.end(); ++m) grid_.set_tag(*m, keep);
     lists_.absorb(keep, gone, s_.spheres.cluster.data());
     calendar_.forget(gone);
+    keeper_.forget(gone);
     keeper_.restart(keep, slack);
     ++count_.merges;
     return keep;

@@ -14,6 +14,9 @@
 //
 // The drift is bounded per cluster by a drift bound (the template parameter Bound), which
 // keeps one Record per cluster and answers:
+//   bool keeps_record(c), Record bin_record(c)   (optional) whether c needs a record, and
+//                                          if not, what it holds (TranslationDrift: a
+//                                          single sphere's drift follows from its bin)
 //   Record reset(c, t)                     the cluster binned anew at t
 //   Record folded(record, c, t)            c's motion is about to change at t
 //   Record restarted(slack)                a new reference instant, drift so far `slack`
@@ -28,6 +31,7 @@
 
 #include "ballagg/collision/contact_time.hpp"
 #include "ballagg/core/byte_stream.hpp"
+#include "ballagg/core/sparse_records.hpp"
 #include "ballagg/core/state.hpp"
 #include "ballagg/spatial/cell_grid.hpp"
 
@@ -104,45 +108,91 @@ class NeighborKeeper {
   double skin() const { return skin_; }
   void set_skin(double skin) { skin_ = skin; }
 
-  // m clusters, none binned yet and none expiring.
-  void assign(int m) {
-    drift_.assign(m, Record{});
-    rebuild_at_.assign(m, kNever);
+  // m clusters, none binned yet and none expiring. `keep_expiries`: whether each cluster's
+  // expiry is kept for others to read (expiry(c)); without, a cluster's expiry is only
+  // the value renew_expiry returns, which is all that `ed` reads in a box with walls (its
+  // predictions read a partner's expiry only to end the walk over periodic images), and
+  // 8 bytes per cluster are saved.
+  void assign(int m, bool keep_expiries = true) {
+    keeps_expiries_ = keep_expiries;
+    records_.reset(static_cast<std::size_t>(m));
+    if (keep_expiries) rebuild_at_.assign(m, kNever);
+    else std::vector<double>().swap(rebuild_at_);
   }
 
-  double drift(int c, double t) const { return bound_.drift(drift_[c], c, t); }
+  double drift(int c, double t) const { return bound_.drift(record(c), c, t); }
   // Must be called just before cluster c's motion changes at t.
-  void fold(int c, double t) { drift_[c] = bound_.folded(drift_[c], c, t); }
+  void fold(int c, double t) {
+    if (keeps_record(c)) records_.store(c, bound_.folded(record(c), c, t));
+  }
   // Cluster c's spheres binned anew at t.
-  void reset(int c, double t) { drift_[c] = bound_.reset(c, t); }
+  void reset(int c, double t) {
+    if (keeps_record(c)) records_.store(c, bound_.reset(c, t));
+    else records_.forget(c);
+  }
   // Cluster c starts a new reference instant at which its spheres may be `slack` from
   // their bins (a merge: the drift so far carries over).
-  void restart(int c, double slack) { drift_[c] = bound_.restarted(slack); }
+  void restart(int c, double slack) { records_.store(c, bound_.restarted(slack)); }
+  // Cluster c has no spheres left (merged away).
+  void forget(int c) { records_.forget(c); }
 
   // When c's lists may expire, from its drift record and motion now.
-  double rebuild_time(int c) const { return bound_.rebuild_time(drift_[c], c, skin_); }
-  // rebuild_time(c) as of c's last prediction (renew_expiry).
+  double rebuild_time(int c) const { return bound_.rebuild_time(record(c), c, skin_); }
+  // rebuild_time(c) as of c's last prediction (renew_expiry). Requires the expiries kept.
   double expiry(int c) const { return rebuild_at_[c]; }
   const double* expiry_address(int c) const { return &rebuild_at_[c]; }
-  double renew_expiry(int c) { return rebuild_at_[c] = rebuild_time(c); }
-
-  void save(ByteWriter& w) const {
-    for (const Record& d : drift_) bound_.save(w, d);
-    w.put_vector(rebuild_at_);
+  double renew_expiry(int c) {
+    const double t = rebuild_time(c);
+    if (keeps_expiries_) rebuild_at_[c] = t;
+    return t;
   }
-  // Reads what save() wrote for m clusters.
-  void restore(ByteReader& r, int m) {
-    drift_.resize(m);
-    for (Record& d : drift_) d = bound_.restore(r);
-    rebuild_at_ = r.get_vector<double>("rebuild times", m);
-    if (static_cast<int>(rebuild_at_.size()) != m) r.fail("rebuild times for another number of clusters");
+
+  // A cluster without a record is saved with the one it stands for (bin_record); without
+  // the expiries kept, the file holds each cluster's rebuild_time (for a live cluster, what
+  // a keeper that keeps them holds between events). The file is the same either way.
+  void save(ByteWriter& w) const {
+    const int m = static_cast<int>(records_.ids());
+    for (int c = 0; c < m; ++c) bound_.save(w, record(c));
+    if (keeps_expiries_) {
+      w.put_vector(rebuild_at_);
+      return;
+    }
+    std::vector<double> expiries(static_cast<std::size_t>(m));
+    for (int c = 0; c < m; ++c) expiries[c] = rebuild_time(c);
+    w.put_vector(expiries);
+  }
+  // Reads what save() wrote for m clusters; the expiries are kept if keep_expiries (as
+  // for assign()). A cluster that keeps no record reads and drops its saved one: the grid,
+  // restored before, holds what it stood for.
+  void restore(ByteReader& r, int m, bool keep_expiries = true) {
+    keeps_expiries_ = keep_expiries;
+    records_.reset(static_cast<std::size_t>(m));
+    for (int c = 0; c < m; ++c) {
+      const Record d = bound_.restore(r);
+      if (keeps_record(c)) records_.store(c, d);
+    }
+    std::vector<double> expiries = r.get_vector<double>("rebuild times", m);
+    if (static_cast<int>(expiries.size()) != m) r.fail("rebuild times for another number of clusters");
+    if (keep_expiries) rebuild_at_ = std::move(expiries);
+    else std::vector<double>().swap(rebuild_at_);
   }
 
  private:
+  bool keeps_record(int c) const {
+    if constexpr (requires { bound_.keeps_record(c); }) return bound_.keeps_record(c);
+    else return true;
+  }
+  Record record(int c) const {
+    if (const Record* r = records_.find(c)) return *r;
+    if constexpr (requires { bound_.bin_record(c); }) return bound_.bin_record(c);
+    else return Record{};
+  }
+
   Bound bound_;
   double skin_;
-  std::vector<Record> drift_;
-  std::vector<double> rebuild_at_;
+  SparseRecords<Record> records_;  // per cluster that keeps_record
+  std::vector<double> rebuild_at_;  // per cluster, if kept
+  bool keeps_expiries_ = true;
 };
 
 }  // namespace ballagg

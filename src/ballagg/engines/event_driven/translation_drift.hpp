@@ -6,12 +6,18 @@
 // new reference with the drift so far as slack. Displacement rather than path length means
 // a big cluster rattling between walls, or bouncing to and fro, does not rebuild its lists
 // for nothing. (A drift bound of NeighborKeeper, neighbor_keeper.hpp.)
+//
+// Given the cell grid the spheres are binned in, a cluster of one sphere keeps no record:
+// its displacement since it was binned is the way from its bin to where it is, and it has
+// no slack (only a merge gives slack, and a merge makes an aggregate). A gas of monomers
+// then costs no record per cluster.
 #include <cmath>
 
 #include "ballagg/collision/contact_time.hpp"
 #include "ballagg/collision/crossing.hpp"
 #include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/state.hpp"
+#include "ballagg/spatial/cell_grid.hpp"
 
 namespace ballagg {
 
@@ -28,7 +34,24 @@ class TranslationDrift {
   };
   static_assert(sizeof(Record) == (D + 1) * sizeof(double), "one record per cluster: no padding");
 
-  explicit TranslationDrift(const State<D>& s) : s_(&s) {}
+  // `bins`: the grid the spheres are binned in, or nullptr (every cluster keeps a record).
+  explicit TranslationDrift(const State<D>& s, const CellGrid<D>* bins = nullptr) : s_(&s), bins_(bins) {}
+
+  // Whether cluster c needs a record: without one, its record is bin_record(c).
+  bool keeps_record(int c) const { return bins_ == nullptr || s_->clusters[c].size() > 1; }
+  // The record of a cluster of one sphere, from its bin: its displacement from the bin at
+  // the anchor time, no slack. The way from the bin is taken at the present (the state's
+  // time), where it is the nearest image (the drift stays below L / 2), and carried back
+  // to the anchor time along the velocity: since its anchor time a sphere in a periodic box
+  // may have crossed the box. A dead cluster's record is zero.
+  Record bin_record(int c) const {
+    const Cluster<D>& k = s_->clusters[c];
+    if (!k.alive()) return {};
+    const int i = k.members.front();
+    const double now = s_->time;
+    const Vec<D> from_bin = s_->box.separation(s_->unwrapped_position(i, now), bins_->binned(i));
+    return {from_bin - (now - k.anchor_time) * k.velocity, 0.0};
+  }
 
   // The displacement of cluster c's centre since the record's reference instant, at t.
   Vec<D> displacement(const Record& r, int c, double t) const {
@@ -71,6 +94,7 @@ class TranslationDrift {
 
  private:
   const State<D>* s_;
+  const CellGrid<D>* bins_;
 };
 
 }  // namespace ballagg
