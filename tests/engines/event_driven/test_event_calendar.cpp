@@ -196,10 +196,10 @@ TEST(EventCalendar, SavedAndRestoredGivesTheSameEvents) {
 }
 
 // A calendar saved with every event kept, restored into one that keeps the earliest only,
-// keeps each cluster's earliest. A refill marker, as `ed` saved them when it filed markers
-// (a copy of an event left out, its second stamp 2^63 + its cluster), becomes its copied
-// event with stamps 0, which no cluster has: found stale when due.
-TEST(EventCalendar, RestoringKeepsTheEarliestAndReadsOldRefillMarkers) {
+// keeps each cluster's earliest. A refill marker in the file (a copy of an event, its
+// second stamp 2^63 + its cluster) is read as its copied event with stamps 0, which no
+// cluster has: found stale when due.
+TEST(EventCalendar, RestoringKeepsTheEarliestAndReadsRefillMarkers) {
   EventCalendar all;
   all.reset(2);
   all.refile(0, {{3.0, 0, 0, 7, 0, EventKind::wall}, {1.0, 0, 0, 7, 0, EventKind::list_rebuild}});

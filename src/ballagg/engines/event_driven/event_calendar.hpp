@@ -217,14 +217,13 @@ class EventCalendar {
     }
   }
   // A calendar that keeps the earliest event only keeps the earliest of a cluster's saved
-  // ones (what it would have kept of them). A file written when `ed` filed refill markers
-  // (a copy of an event left out, its second stamp holding kOldMarkerBit and its cluster)
-  // is read too: a marker becomes its copied event with the first stamp 0, which no
-  // cluster has, so that it is found stale when due and its cluster predicted again, as
-  // the marker had it.
+  // ones (what it would have kept of them). The format also holds refill markers: a copy of
+  // an event, its second stamp kMarkerBit + the cluster it is filed under. A marker is read
+  // as its copied event with stamps 0, which no cluster has: found stale when due, it has
+  // its cluster predicted again, which is what a marker stands for.
   template <class Check>
   void restore(ByteReader& r, Check&& check) {
-    static constexpr std::uint64_t kOldMarkerBit = std::uint64_t{1} << 63;
+    static constexpr std::uint64_t kMarkerBit = std::uint64_t{1} << 63;
     stored_ = 0;
     std::vector<Event> events;
     for (int c = 0; c < static_cast<int>(order_size()); ++c) {
@@ -240,8 +239,8 @@ class EventCalendar {
         e.kind = r.get<EventKind>("event kind");
         if (!std::isfinite(e.time)) r.fail("event at a time that is not finite");
         if (e.stamp_a >= FiledEvent::kStampLimit) r.fail("event stamp beyond 2^61");
-        if (e.stamp_b >= kOldMarkerBit) {
-          if (e.stamp_b - kOldMarkerBit != static_cast<std::uint64_t>(c)) r.fail("a refill marker filed under another cluster");
+        if (e.stamp_b >= kMarkerBit) {
+          if (e.stamp_b - kMarkerBit != static_cast<std::uint64_t>(c)) r.fail("a refill marker filed under another cluster");
           e.stamp_a = 0;
           e.stamp_b = 0;
         }
