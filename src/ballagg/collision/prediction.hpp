@@ -4,6 +4,7 @@
 // prediction is made: the fast engine and the naive reference engine therefore compute
 // bit-identical event times and follow the same merge sequence.
 #include <algorithm>
+#include <cmath>
 
 #include "ballagg/collision/contact_time.hpp"
 #include "ballagg/core/state.hpp"
@@ -28,15 +29,27 @@ Vec<D> position_in(const Cluster<D>& k, const Vec<D>& offset, double t) {
 // Absolute time at which two spheres of different clusters first touch, or kNever: sphere
 // i at `offset_i` in cluster ci, sphere j at `offset_j` in cluster cj, sigma = R_i + R_j.
 // `now` is the present time and `limit` a time after which the answer is not needed
-// (kNever may then be returned). The value returned for a contact before `limit` does not
-// depend on `now` or `limit`: both event-driven engines compute it bit for bit alike.
+// (kNever may then be returned for a contact through a farther image than the one the
+// pair is in now). `horizon` is the time of an event the caller already has and keeps
+// unless an earlier one comes: a contact certainly later is returned as kNever through
+// any image (contact_time_within). The value returned for a contact before `limit` and
+// `horizon` does not depend on `now`, `limit` or `horizon`: both event-driven engines
+// compute it bit for bit alike.
 template <int D>
 double predicted_contact(const Box<D>& box, const Cluster<D>& ci, const Vec<D>& offset_i, const Cluster<D>& cj,
-                         const Vec<D>& offset_j, double sigma, double now, double limit) {
+                         const Vec<D>& offset_j, double sigma, double now, double limit, double horizon = kNever) {
   const double t0 = std::max(ci.anchor_time, cj.anchor_time);
   const Vec<D> dx = position_in(ci, offset_i, t0) - position_in(cj, offset_j, t0);
   const Vec<D> dv = ci.velocity - cj.velocity;
-  if (!box.periodic()) return t0 + contact_time<D>(dx, dv, sigma);
+  // The horizon from t0, widened so that a contact discarded is later than it after
+  // rounding too (tolerance::kHorizonMargin).
+  const double span =
+      horizon == kNever ? kNever
+                        : horizon - t0 + tolerance::kHorizonMargin * (std::abs(horizon) + std::abs(t0));
+  const auto contact = [&](const Vec<D>& image) {
+    return span == kNever ? contact_time<D>(image, dv, sigma) : contact_time_within<D>(image, dv, sigma, span);
+  };
+  if (!box.periodic()) return t0 + contact(dx);
 
   // Walk the images k L in the order the relative position dx + dv t passes through the
   // boxes of side L around them, from the box it is in now. A contact with image k happens
@@ -46,7 +59,7 @@ double predicted_contact(const Box<D>& box, const Cluster<D>& ci, const Vec<D>& 
   for (int a = 0; a < D; ++a) k[a] = round_to_integer((dx[a] + dv[a] * (now - t0)) / length);
   for (int step = 0; step < kMaxImagesWalked; ++step) {
     const Vec<D> image = dx - length * k;
-    const double dt = contact_time<D>(image, dv, sigma);
+    const double dt = contact(image);
     if (dt < kNever) return t0 + dt;
     double exit = kNever;
     int axis = -1;
@@ -56,7 +69,7 @@ double predicted_contact(const Box<D>& box, const Cluster<D>& ci, const Vec<D>& 
       const double t = (face - image[a]) / dv[a];
       if (t < exit) exit = t, axis = a;
     }
-    if (axis < 0 || t0 + exit > limit) return kNever;
+    if (axis < 0 || t0 + exit > std::min(limit, horizon)) return kNever;
     k[axis] += dv[axis] > 0.0 ? 1.0 : -1.0;
   }
   return kNever;
@@ -64,9 +77,10 @@ double predicted_contact(const Box<D>& box, const Cluster<D>& ci, const Vec<D>& 
 
 // The same for spheres i and j of the state.
 template <int D>
-double predicted_contact(const State<D>& s, int i, int j, double now, double limit = kNever) {
+double predicted_contact(const State<D>& s, int i, int j, double now, double limit = kNever,
+                         double horizon = kNever) {
   return predicted_contact(s.box, s.cluster_of(i), s.spheres.offset[i], s.cluster_of(j), s.spheres.offset[j],
-                           s.spheres.radius[i] + s.spheres.radius[j], now, limit);
+                           s.spheres.radius[i] + s.spheres.radius[j], now, limit, horizon);
 }
 
 struct WallContact {

@@ -16,6 +16,13 @@ inline constexpr double kContact = 1e-9;
 // zero up to round-off) from being predicted to collide again at the same instant.
 inline constexpr double kApproach = 1e-12;
 
+// A prediction that keeps only the earliest event of a cluster discards a contact when it
+// certainly comes after the earliest found so far (collision/contact_time.hpp,
+// contact_time_within): certainly, that is with this relative margin on the times and on
+// the test's terms, far above round-off (about 2e-16 per operation), so that no contact at
+// the very time of the kept event, or before it, is discarded.
+inline constexpr double kHorizonMargin = 1e-12;
+
 // A cluster whose extent along an axis is within kWallPinGap * (smallest diameter) of the
 // box length touches both walls at once. It cannot move along that axis without bouncing
 // infinitely often, so that velocity component is set to zero ("pinned", docs/model.md).

@@ -62,7 +62,7 @@ Config resolve_defaults(Config c, const State<D>& s) {
   for (int i = 0; i < s.n_spheres(); ++i) mean_square_speed += s.velocity(i).squaredNorm();
   mean_square_speed /= s.n_spheres();
   if (!c.engine.skin && c.engine.kind == EngineKind::rigid_body) c.engine.skin = rigid_body_skin(s);
-  if (!c.engine.skin && c.engine.kind != EngineKind::ts) c.engine.skin = default_skin(s);
+  if (!c.engine.skin && c.engine.kind != EngineKind::ts) c.engine.skin = default_skin(s, c.collision.outcome);
   if (!c.ts.delta_w) c.ts.delta_w = 4.0 * mean_radius;
   if (!c.collision.tc_time && c.collision.outcome != CollisionOutcome::stick) {
     const double rms = std::sqrt(mean_square_speed);

@@ -431,6 +431,27 @@ TEST(EventDrivenLists, ASphereTurningBackMeetsAPartnerThatRebuiltWhileItWasAway)
   }
 }
 
+TEST(EventDrivenSkin, ADenseBouncingGasListsBeyondItsContactShell) {
+  // 3D at volume fraction 0.45: the neighbours' rule would give a skin shorter than a free
+  // path. A gas that bounces gets kMinBouncingSkin; one that aggregates keeps the rule,
+  // floored at kMinSkin.
+  Config c = testing::small_config(3, 512, 0.45, Boundary::periodic, 1);
+  c.initial.positions = InitialPositions::lattice;
+  const State<3> dense = make_initial_state<3>(c);
+  const double r = dense.mean_radius();
+  EXPECT_DOUBLE_EQ(default_skin(dense, CollisionOutcome::bounce), kMinBouncingSkin * r);
+  EXPECT_DOUBLE_EQ(default_skin(dense, CollisionOutcome::stick), kMinSkin * r);
+  EXPECT_DOUBLE_EQ(default_skin(dense, CollisionOutcome::energy_threshold), kMinSkin * r);
+  // Dilute, the rule's skin is longer than either floor, whatever the outcome.
+  c.system.volume_fraction = 0.05;
+  const State<3> dilute = make_initial_state<3>(c);
+  EXPECT_GT(default_skin(dilute, CollisionOutcome::stick), kMinBouncingSkin * r);
+  EXPECT_EQ(default_skin(dilute, CollisionOutcome::bounce), default_skin(dilute, CollisionOutcome::stick));
+}
+
+// Keeping the earliest event only also prunes each prediction against the earliest event
+// found so far (collision/contact_time.hpp, contact_time_within); keeping every event
+// does not: the two runs agreeing checks the pruning as well.
 TEST(EventDrivenKeptEvents, KeepingOnlyTheEarliestEventsChangesNoResult) {
   StopCriteria to_one;
   StopCriteria until_20 = until(20.0);

@@ -118,8 +118,9 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
   EventDrivenCore(State<D>& state, const EventDrivenSettings& settings, Sized)
       : s_(state), law_(settings.collision),
         // grid_ is built after keeper_, which keeps only its address.
-        keeper_(TranslationDrift<D>(state, &grid_), fitted_skin(state, settings.skin.value_or(0.0), default_skin(state),
-                                                        SkinLimitRounding::divide_first)),
+        keeper_(TranslationDrift<D>(state, &grid_),
+                fitted_skin(state, settings.skin.value_or(0.0), default_skin(state, settings.collision.outcome),
+                            SkinLimitRounding::divide_first)),
         grid_(state.box, binning_cell_size(state, keeper_.skin()), state.n_spheres()) {
     keep_what_the_law_reads(s_, law_);
   }
@@ -216,16 +217,18 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
     }
   }
 
-  // The contact event of spheres i and j (different clusters), if they approach. The
-  // periodic image walk stops at the earlier list rebuild of the two clusters: a contact
-  // through a farther image needs the pair to leave and re-enter the lists first. (Nothing
-  // else reads a partner's expiry: a box with walls keeps none.)
+  // The contact event of spheres i and j (different clusters), if they approach, and if
+  // it can come before `horizon` (the earliest event of a prediction keeping only that).
+  // The periodic image walk stops at the earlier list rebuild of the two clusters: a
+  // contact through a farther image needs the pair to leave and re-enter the lists first.
+  // (Nothing else reads a partner's expiry: a box with walls keeps none.)
   bool keeps_expiries() const { return s_.box.periodic(); }
-  std::optional<Event> pair_event(int i, int j) {
+  std::optional<Event> pair_event(int i, int j, double horizon = kNever) {
     const int a = s_.spheres.cluster[i], b = s_.spheres.cluster[j];
     const double limit = keeps_expiries() ? std::min(keeper_.expiry(a), keeper_.expiry(b)) : kNever;
-    const double t = predicted_contact(s_.box, s_.clusters[a], s_.spheres.offset[i], s_.clusters[b],
-                                       s_.spheres.offset[j], s_.spheres.radius[i] + s_.spheres.radius[j], s_.time, limit);
+    const double t =
+        predicted_contact(s_.box, s_.clusters[a], s_.spheres.offset[i], s_.clusters[b], s_.spheres.offset[j],
+                          s_.spheres.radius[i] + s_.spheres.radius[j], s_.time, limit, horizon);
     ++count_.pair_predictions;
     if (t == kNever) return std::nullopt;
     const int lo = std::min(i, j), hi = std::max(i, j);
@@ -233,22 +236,31 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
   }
 
   // Files the next wall contact, list rebuild and pair contacts of cluster c, replacing
-  // everything filed under c before (all of it involved c's previous motion).
+  // everything filed under c before (all of it involved c's previous motion). A calendar
+  // that keeps c's earliest event only needs no contact after the earliest found so far,
+  // and the pairs are predicted against it: a contact certainly later costs no root.
   void predict(int c, bool skip_lower_clusters = false, int skip_cluster = -1) {
     const Cluster<D>& k = s_.clusters[c];
+    const bool earliest_only = calendar_.keeps() == CalendarKeeps::earliest_only;
+    std::optional<Event> earliest;
     batch_.clear();
+    const auto take = [&](const Event& e) {
+      if (!earliest_only) batch_.push_back(e);
+      else if (!earliest || later(*earliest, e)) earliest = e;
+    };
     const WallContact w = next_wall_contact(s_, c);
-    if (w.time < kNever) batch_.push_back({w.time, c, w.axis, k.stamp, 0, EventKind::wall});
+    if (w.time < kNever) take({w.time, c, w.axis, k.stamp, 0, EventKind::wall});
     const double expiry = keeper_.renew_expiry(c);
-    if (expiry < kNever) batch_.push_back({expiry, c, 0, k.stamp, 0, EventKind::list_rebuild});
+    if (expiry < kNever) take({expiry, c, 0, k.stamp, 0, EventKind::list_rebuild});
     for (int i : lists_.exposed(c)) {
       prefetch_partners(i);
       for (int j : lists_.partners(i)) {
         const int d = s_.spheres.cluster[j];
         if (d == skip_cluster || (skip_lower_clusters && d < c)) continue;
-        if (auto e = pair_event(i, j)) batch_.push_back(*e);
+        if (auto e = pair_event(i, j, earliest ? earliest->time : kNever)) take(*e);
       }
     }
+    if (earliest) batch_.push_back(*earliest);
     calendar_.refile(c, batch_);
     count_.queue_peak = std::max<std::int64_t>(count_.queue_peak, calendar_.size());
   }
@@ -339,12 +351,13 @@ class EventDrivenCore : public CalendarDispatch<EventDrivenCore<D>> {
 }  // namespace
 
 template <int D>
-double default_skin(const State<D>& s) {
+double default_skin(const State<D>& s, CollisionOutcome outcome) {
   // Radius r of the ball holding kSkinNeighbours centres at number density n.
   const double density = s.n_spheres() / s.box.volume();
   const double unit_ball = D == 2 ? std::numbers::pi : 4.0 / 3.0 * std::numbers::pi;
   const double reach = std::pow(kSkinNeighbours / (density * unit_ball), 1.0 / D);
-  return std::max(reach - 2.0 * s.mean_radius(), kMinSkin * s.mean_radius());
+  const double floor = outcome == CollisionOutcome::bounce ? kMinBouncingSkin : kMinSkin;
+  return std::max(reach - 2.0 * s.mean_radius(), floor * s.mean_radius());
 }
 
 template <int D>
@@ -352,8 +365,8 @@ std::unique_ptr<Engine<D>> make_event_driven_engine(const EventDrivenSettings& s
   return std::make_unique<EventLoopEngine<D, EventDrivenCore<D>>>("ed", settings);
 }
 
-template double default_skin<2>(const State<2>&);
-template double default_skin<3>(const State<3>&);
+template double default_skin<2>(const State<2>&, CollisionOutcome);
+template double default_skin<3>(const State<3>&, CollisionOutcome);
 template std::unique_ptr<Engine<2>> make_event_driven_engine<2>(const EventDrivenSettings&);
 template std::unique_ptr<Engine<3>> make_event_driven_engine<3>(const EventDrivenSettings&);
 

@@ -60,8 +60,8 @@ class NaiveCore {
       if (guarded && guard.poll()) return std::nullopt;
       for (int j = i + 1; j < n; ++j)
         if (cluster[i] != cluster[j]) {
-          const double limit = best ? best->time : kNever;
-          consider({predicted_contact(s_, i, j, s_.time, limit), i, j, 0, 0, EventKind::collision});
+          const double earliest = best ? best->time : kNever;
+          consider({predicted_contact(s_, i, j, s_.time, earliest, earliest), i, j, 0, 0, EventKind::collision});
           ++predictions;
         }
     }

@@ -95,7 +95,9 @@ RunResult RigidBodyCore<D>::run(State<D>& state, const StopCriteria& stop, RunOb
 
 template <int D>
 double rigid_body_skin(const State<D>& s) {
-  return std::min(default_skin(s), kSkinDiameters * 2.0 * s.mean_radius());
+  // The rule of an aggregating gas: bodies that bounce are still re-predicted pair by pair
+  // after each merge and each bounce, as aggregates are in `ed`.
+  return std::min(default_skin(s, CollisionOutcome::stick), kSkinDiameters * 2.0 * s.mean_radius());
 }
 
 template <int D>

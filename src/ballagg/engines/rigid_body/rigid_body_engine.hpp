@@ -10,8 +10,8 @@
 
 namespace ballagg {
 
-// The default neighbour-list skin: the event-driven engine's (about kSkinNeighbours
-// neighbours), but at most kSkinDiameters mean diameters. A rebuild costs more here (it
+// The default neighbour-list skin: the event-driven engine's for an aggregating gas (about
+// kSkinNeighbours neighbours), but at most kSkinDiameters mean diameters. A rebuild costs more here (it
 // evaluates the orientations of the partners' bodies), and in the dilute gases of
 // Richardson's models a skin of 2-3 diameters was measured fastest (docs/rigid_body.md).
 inline constexpr double kSkinDiameters = 2.5;
