@@ -16,10 +16,14 @@
 
 #include "ballagg/core/byte_stream.hpp"
 #include "ballagg/core/state_codec.hpp"
+#include "ballagg/engines/event_driven/neighbor_keeper.hpp"
+#include "ballagg/engines/rigid_body/rigid_body_engine.hpp"
+#include "ballagg/engines/rigid_body/rigid_body_settings.hpp"
 #include "ballagg/engines/time_stepping/ts_counters.hpp"
 #include "ballagg/io/checkpoint_file.hpp"
 #include "ballagg/io/h5md_reader.hpp"
 #include "ballagg/io/state_csv.hpp"
+#include "ballagg/spatial/grid_geometry.hpp"
 #include "cli_support.hpp"
 #include "fuzz/checkpoint_payload.hpp"
 #include "support.hpp"
@@ -200,6 +204,56 @@ TEST(Checkpoint, RigidBodyResumesBitForBitWithSphereCoagulation) {
   c.rigid_body.coagulation = Coagulation::sphere;
   c.stop.clusters = 200;
   expect_resumed_runs_identical<3>(c, {0.5});
+}
+
+// The rigid-body engine's grid has at most RigidBodySettings::cells_per_sphere cells per
+// sphere. In a gas dilute enough that CellGrid's default of 2 binds, a grid of either count
+// gives the same run, and a checkpoint saved with the coarser grid is resumed with it, bit
+// for bit, by an engine that would build the finer one; a grid finer than the engine's own
+// is refused.
+TEST(Checkpoint, RigidBodyGridsOfEitherCellCountGiveTheSameRunAndResume) {
+  Config given = rigid_config(3, 400, 0.002, Boundary::periodic, 17);
+  given.collision.outcome = CollisionOutcome::energy_threshold;
+  given.rigid_body.restitution_law = RestitutionLaw::bridges;
+  given.rigid_body.velocity_unit = 0.01;
+  given.stop.clusters = 330;
+  State<3> reference = make_initial_state<3>(given);
+  const Config c = resolve_defaults(given, reference);
+  const auto settings = [&](double cells_per_sphere) {
+    RigidBodySettings s{c.collision, c.rigid_body, c.engine.skin, c.initial.speed};
+    s.cells_per_sphere = cells_per_sphere;
+    return s;
+  };
+  constexpr double kCoarse = 2.0, kFine = kRigidBodyCellsPerSphere;
+  const double narrowest = binning_cell_size(reference.max_radius(), *c.engine.skin);
+  ASSERT_LT(GridGeometry<3>(reference.box, narrowest, 400, kCoarse).per_side(),
+            GridGeometry<3>(reference.box, narrowest, 400, kFine).per_side());
+
+  RunObserver<3> none;
+  const RunResult whole = make_rigid_body_engine<3>(settings(kFine))->run(reference, stop_criteria(c), none);
+  EXPECT_GT(whole.counters.merges, 0);
+  EXPECT_GT(whole.counters.bounces, 0);
+  State<3> coarse = make_initial_state<3>(given);
+  const RunResult coarse_run = make_rigid_body_engine<3>(settings(kCoarse))->run(coarse, stop_criteria(c), none);
+  EXPECT_EQ(state_csv_text(coarse), state_csv_text(reference));
+  EXPECT_EQ(coarse_run.counters, whole.counters);
+
+  SaveOnce<3> coarse_saver(whole.counters.events / 2), fine_saver(whole.counters.events / 2);
+  State<3> first = make_initial_state<3>(given);
+  make_rigid_body_engine<3>(settings(kCoarse))->run(first, stop_criteria(c), coarse_saver);
+  State<3> again = make_initial_state<3>(given);
+  make_rigid_body_engine<3>(settings(kFine))->run(again, stop_criteria(c), fine_saver);
+  ASSERT_FALSE(coarse_saver.state.empty());
+  ASSERT_FALSE(fine_saver.state.empty());
+  State<3> resumed = StateCodec<3>::decode(coarse_saver.state);
+  std::unique_ptr<Engine<3>> engine = make_rigid_body_engine<3>(settings(kFine));
+  engine->resume_from(resumed, coarse_saver.engine);
+  const RunResult rest = engine->run(resumed, stop_criteria(c), none);
+  EXPECT_EQ(state_csv_text(resumed), state_csv_text(reference));
+  EXPECT_EQ(rest.counters, whole.counters);
+
+  State<3> finer = StateCodec<3>::decode(fine_saver.state);
+  EXPECT_THROW(make_rigid_body_engine<3>(settings(kCoarse))->resume_from(finer, fine_saver.engine), CheckpointError);
 }
 
 TEST(Checkpoint, RigidBodyRefusesBytesOfAnotherRun) {

@@ -24,7 +24,8 @@ class CellGrid {
   // The number of cells is also capped near `max_cells_per_item * n_items`, so a dilute
   // system in a huge box does not allocate a huge, empty grid (larger cells stay correct).
   CellGrid(const Box<D>& box, double min_cell_size, int n_items, double max_cells_per_item = 2.0)
-      : box_(box), grid_(box, min_cell_size, n_items, max_cells_per_item), per_side_(grid_.per_side()) {
+      : CellGrid(GridGeometry<D>(box, min_cell_size, n_items, max_cells_per_item), n_items) {}
+  CellGrid(const GridGeometry<D>& grid, int n_items) : box_(grid.box()), grid_(grid), per_side_(grid_.per_side()) {
     head_.assign(grid_.n_cells(), -1);
     cell_tag_.assign(grid_.n_cells(), kMixed);
     node_.assign(n_items, Node{});

@@ -30,6 +30,14 @@ class GridGeometry {
     per_side_ = static_cast<int>(std::clamp(std::min(by_size, by_count), 1.0, 1e6));
     cell_size_ = box.length / per_side_;
   }
+  // A grid of exactly `per_side.value` cells a side (>= 1): one rebuilt as it was saved.
+  struct CellsPerSide {
+    int value;
+  };
+  GridGeometry(const Box<D>& box, CellsPerSide per_side)
+      : box_(box), per_side_(per_side.value), cell_size_(box.length / per_side.value) {
+    if (per_side.value < 1) throw std::logic_error("cell grid: at least one cell a side");
+  }
 
   const Box<D>& box() const { return box_; }
   int per_side() const { return per_side_; }

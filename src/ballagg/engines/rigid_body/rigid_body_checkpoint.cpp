@@ -1,6 +1,8 @@
 // The rigid-body engine in a checkpoint: what it saves, and the core restored from it.
 #include "ballagg/engines/rigid_body/rigid_body_core.hpp"
 
+#include <cmath>
+
 #include "ballagg/core/byte_stream.hpp"
 
 namespace ballagg {
@@ -25,8 +27,17 @@ RigidBodyCore<D>::RigidBodyCore(State<D>& state, const RigidBodySettings& settin
   }
   bodies_.restore(r, m, n);
   grid_radius_ = binned_radius();
-  grid_ = std::make_unique<CellGrid<D>>(s_.box, binning_cell_size(grid_radius_, keeper_.skin()), n);
-  if (r.get<double>("cell size") != grid_->cell_size()) r.fail("cell grid for another largest radius or skin");
+  // The grid the run was saved with, so that the resumed run visits the cells as the
+  // saved one did: a whole number of cells a side, as wide as the largest radius and the
+  // skin need and no more numerous than grid_geometry() makes them (a grid saved with
+  // fewer cells per sphere is read as well).
+  const double cell_size = r.get<double>("cell size");
+  const double per_side = std::round(s_.box.length / cell_size);
+  if (!(cell_size >= binning_cell_size(grid_radius_, keeper_.skin()) && per_side >= 1.0 &&
+        per_side <= grid_geometry().per_side() && s_.box.length / per_side == cell_size))
+    r.fail("cell grid for another largest radius or skin");
+  const GridGeometry<D> saved_cells(s_.box, typename GridGeometry<D>::CellsPerSide{static_cast<int>(per_side)});
+  grid_ = std::make_unique<CellGrid<D>>(saved_cells, n);
   grid_->restore(r);
   lists_.reset(n, m);
   lists_.restore(r);

@@ -175,6 +175,11 @@ class RigidBodyCore : public CalendarDispatch<RigidBodyCore<D>> {
     return std::exp2(std::ceil(std::log2(s_.max_radius())));
   }
 
+  // The cells for grid_radius_ and the skin, at most settings_.cells_per_sphere per sphere.
+  GridGeometry<D> grid_geometry() const {
+    return {s_.box, binning_cell_size(grid_radius_, keeper_.skin()), s_.n_spheres(), settings_.cells_per_sphere};
+  }
+
   // Drops the pairs of sphere i whose bins are out of reach. Removal swaps the last
   // partner into the hole, so walking the list from its end visits every entry once.
   void drop_out_of_reach(int i);

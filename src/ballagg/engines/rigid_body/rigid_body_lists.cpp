@@ -10,7 +10,7 @@ void RigidBodyCore<D>::build_spatial() {
   const int m = static_cast<int>(s_.clusters.size());
   const double t = s_.time;
   grid_radius_ = binned_radius();
-  grid_ = std::make_unique<CellGrid<D>>(s_.box, binning_cell_size(grid_radius_, keeper_.skin()), n);
+  grid_ = std::make_unique<CellGrid<D>>(grid_geometry(), n);
   pose_time_.assign(m, std::numeric_limits<double>::quiet_NaN());
   pose_.resize(m);
   keeper_.assign(m);

@@ -54,11 +54,23 @@ struct RigidBodyLaw {
   std::optional<double> fragmentation_energy;
 };
 
+// The cell grid of the rigid-body engine holds at most this many cells per sphere, where
+// CellGrid's default is 2. The skin is capped at kSkinDiameters (rigid_body_engine.hpp),
+// so in Richardson's dilute gases the narrowest cells the lists allow (2 R_max + skin) are
+// far smaller than the spacing of the spheres: model (v) has 8.9 of them per sphere. With 2
+// per sphere its cells are 1.66 times wider, and the 27 cells a rebuild scans around each
+// sphere it re-bins hold 4.6 times the volume; at 16 per sphere (128 bytes) model (v) gets
+// the narrowest cells and runs 8-9 % faster (docs/profiles.md). Not a
+// configuration key: the run is the same with any number of cells (the tests compare
+// them); only its speed and memory differ.
+inline constexpr double kRigidBodyCellsPerSphere = 16.0;
+
 struct RigidBodySettings {
   CollisionSettings collision;  // outcome, eps_n of the constant restitution law, TC model
   RigidBodyLaw law;
   std::optional<double> skin;   // neighbour-list skin (absolute); unset: rigid_body_skin()
   double initial_speed = 0.0;   // the speed law.constant_speed keeps (initial.speed)
+  double cells_per_sphere = kRigidBodyCellsPerSphere;  // at most, in the cell grid
   // >= 0: the speed of every sphere made by sphere coagulation; < 0: momentum is conserved.
   double merged_speed() const { return law.constant_speed ? initial_speed : -1.0; }
 };
