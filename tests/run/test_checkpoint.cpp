@@ -177,11 +177,15 @@ TEST(Checkpoint, RigidBodyResumesBitForBit2DWalls) {
 }
 
 // Richardson's model (v) physics: energy-threshold outcome, the Bridges restitution law.
-TEST(Checkpoint, RigidBodyResumesBitForBitWithRestitution) {
-  Config c = rigid_config(3, 200, 0.1, Boundary::periodic, 13);
+Config with_model_v_physics(Config c) {
   c.collision.outcome = CollisionOutcome::energy_threshold;
   c.rigid_body.restitution_law = RestitutionLaw::bridges;
   c.rigid_body.velocity_unit = 0.01;
+  return c;
+}
+
+TEST(Checkpoint, RigidBodyResumesBitForBitWithRestitution) {
+  Config c = with_model_v_physics(rigid_config(3, 200, 0.1, Boundary::periodic, 13));
   c.stop.time = 15.0;
   RunResult whole;
   expect_resumed_runs_identical<3>(c, {0.2, 0.7}, &whole);
@@ -212,10 +216,7 @@ TEST(Checkpoint, RigidBodyResumesBitForBitWithSphereCoagulation) {
 // for bit, by an engine that would build the finer one; a grid finer than the engine's own
 // is refused.
 TEST(Checkpoint, RigidBodyGridsOfEitherCellCountGiveTheSameRunAndResume) {
-  Config given = rigid_config(3, 400, 0.002, Boundary::periodic, 17);
-  given.collision.outcome = CollisionOutcome::energy_threshold;
-  given.rigid_body.restitution_law = RestitutionLaw::bridges;
-  given.rigid_body.velocity_unit = 0.01;
+  Config given = with_model_v_physics(rigid_config(3, 400, 0.002, Boundary::periodic, 17));
   given.stop.clusters = 330;
   State<3> reference = make_initial_state<3>(given);
   const Config c = resolve_defaults(given, reference);
