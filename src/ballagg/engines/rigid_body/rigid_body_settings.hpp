@@ -60,7 +60,7 @@ struct RigidBodyLaw {
 // far smaller than the spacing of the spheres: model (v) has 8.9 of them per sphere. With 2
 // per sphere its cells are 1.66 times wider, and the 27 cells a rebuild scans around each
 // sphere it re-bins hold 4.6 times the volume; at 16 per sphere (128 bytes) model (v) gets
-// the narrowest cells and runs 8-9 % faster (docs/profiles.md). Not a
+// the narrowest cells (docs/profiles.md, "rigid-body"). Not a
 // configuration key: the run is the same with any number of cells (the tests compare
 // them); only its speed and memory differ.
 inline constexpr double kRigidBodyCellsPerSphere = 16.0;
